@@ -1,0 +1,302 @@
+"""The walking state machine of the paper's architecture (section "Architecture").
+
+Idle -> Initialize -> Single Support <-> Double Support -> Idle, and Fallen from any phase.
+Transitions come from timers (the phase durations of the step timing) and conditions (a start or
+stop request, the end of the footstep plan, a detected fall). Time is always an argument.
+"""
+from dataclasses import dataclass, field, replace
+import enum
+import math
+from typing import List, Optional
+
+from biped_planner.errors import CommandError, ConfigError
+
+
+class Phase(enum.IntEnum):
+    """Walking phases; the values are those of biped_msgs/WalkingState."""
+
+    IDLE = 0
+    INITIALIZE = 1
+    SINGLE_SUPPORT = 2
+    DOUBLE_SUPPORT = 3
+    FALLEN = 4
+
+
+class Support(enum.IntEnum):
+    """Which foot carries the robot; the values are those of biped_msgs/WalkingState."""
+
+    LEFT = 0
+    RIGHT = 1
+    BOTH = 2
+
+
+@dataclass(frozen=True)
+class StateMachineParams:
+    """Timing and limits of the walking state machine.
+
+    :param initialize_duration: time to shift the COM over the first support foot (s), [0.1, 5]
+    :param single_support: default single support duration (s), [0.1, 5]
+    :param double_support: default double support duration (s), [0.02, 5]
+    :param first_support: the first support foot, Support.LEFT or Support.RIGHT
+    """
+
+    initialize_duration: float = 1.0
+    single_support: float = 0.4
+    double_support: float = 0.1
+    first_support: Support = Support.RIGHT
+
+    def __post_init__(self) -> None:
+        _check_range('initialize_duration', self.initialize_duration, 0.1, 5.0)
+        _check_range('single_support', self.single_support, 0.1, 5.0)
+        _check_range('double_support', self.double_support, 0.02, 5.0)
+        if self.first_support not in (Support.LEFT, Support.RIGHT):
+            raise ConfigError(f'first_support must be LEFT or RIGHT, got {self.first_support!r}')
+
+
+def _check_range(name: str, value: float, low: float, high: float) -> None:
+    if not isinstance(value, (int, float)) or not math.isfinite(value) or not low <= value <= high:
+        raise ConfigError(f'{name} must be a finite number in [{low}, {high}], got {value!r}')
+
+
+@dataclass(frozen=True)
+class WalkingStatus:
+    """A snapshot of the state machine.
+
+    :param phase: the current phase
+    :param support: the foot (or feet) carrying the robot
+    :param step_index: steps completed since the start request
+    :param phase_start: clock time at which the phase began (s)
+    :param phase_duration: duration of the phase's timer (s); 0 for Idle and Fallen
+    :param walk_start: clock time of the start request that began this walk (s)
+    :param stop_requested: a stop was requested and the current step is being finished
+    :param reason: why the last transition happened
+    """
+
+    phase: Phase = Phase.IDLE
+    support: Support = Support.BOTH
+    step_index: int = 0
+    phase_start: float = 0.0
+    phase_duration: float = 0.0
+    walk_start: float = 0.0
+    stop_requested: bool = False
+    reason: str = 'initial state'
+
+    def time_in_phase(self, t: float) -> float:
+        """:return: seconds since the phase began, at clock time t."""
+        return max(0.0, t - self.phase_start)
+
+    @property
+    def fallen(self) -> bool:
+        return self.phase == Phase.FALLEN
+
+
+@dataclass
+class _Timing:
+    single_support: float
+    double_support: float
+
+
+@dataclass
+class WalkingStateMachine:
+    """Walking phases driven by timers and conditions.
+
+    A walk is Initialize (shift the COM over the first support foot), then steps: a step is a
+    single support on one foot (the other swings) followed by a double support, after which the
+    feet swap roles. A walk ends in Idle at the end of a double support when a stop was requested
+    or the footstep plan has no step left; Fallen is entered from any phase and left by reset().
+
+    :param params: timing and first support foot
+    """
+
+    params: StateMachineParams = field(default_factory=StateMachineParams)
+
+    def __post_init__(self) -> None:
+        self._status = WalkingStatus()
+        self._timing = _Timing(self.params.single_support, self.params.double_support)
+        self._steps_in_plan: Optional[int] = None
+        self._first_support = Support(self.params.first_support)
+
+    @property
+    def status(self) -> WalkingStatus:
+        return self._status
+
+    @property
+    def single_support(self) -> float:
+        return self._timing.single_support
+
+    @property
+    def double_support(self) -> float:
+        return self._timing.double_support
+
+    def set_timing(self, single_support: float, double_support: float) -> None:
+        """Change the step timing; it applies from the next phase on.
+
+        :raises CommandError: if a duration is not finite or out of range
+        """
+        try:
+            replace(self.params, single_support=single_support, double_support=double_support)
+        except ConfigError as error:
+            raise CommandError(str(error)) from error
+        self._timing = _Timing(float(single_support), float(double_support))
+
+    def set_step_time(self, step_time: float) -> None:
+        """Scale single and double support to a new step duration, keeping their ratio.
+
+        :raises CommandError: if step_time is not finite and positive, or out of range
+        """
+        if not isinstance(step_time, (int, float)) or not math.isfinite(step_time) \
+                or step_time <= 0.0:
+            raise CommandError(f'step_time must be a finite positive number, got {step_time!r}')
+        ratio = self._timing.single_support / (
+            self._timing.single_support + self._timing.double_support)
+        self.set_timing(step_time * ratio, step_time * (1.0 - ratio))
+
+    def set_plan(self, steps: Optional[int], first_support: Optional[Support] = None) -> None:
+        """Set how many steps the current footstep plan has (None: walk until stopped).
+
+        :param steps: number of swing steps in the plan, counted from the start of the walk
+        :param first_support: first support foot of the plan (applies at the next start)
+        :raises CommandError: if steps is negative
+        """
+        if steps is not None and steps < 0:
+            raise CommandError(f'steps must be >= 0 or None, got {steps}')
+        self._steps_in_plan = steps
+        if first_support is not None:
+            self._first_support = Support(first_support)
+
+    def request_start(self, t: float) -> List[WalkingStatus]:
+        """Start walking (from Idle), or cancel a pending stop (while walking).
+
+        :raises CommandError: if the robot has fallen
+        """
+        status = self._status
+        if status.phase == Phase.FALLEN:
+            raise CommandError('cannot start: the robot has fallen; send RESET once it stands')
+        if status.phase == Phase.IDLE:
+            return [self._enter(Phase.INITIALIZE, t, 'start requested', step_index=0,
+                                walk_start=t, stop_requested=False)]
+        if status.stop_requested:
+            self._status = replace(status, stop_requested=False, reason='stop cancelled')
+        return []
+
+    def request_stop(self, t: float) -> List[WalkingStatus]:
+        """Stop walking: finish the current step into double support, then Idle."""
+        status = self._status
+        if status.phase == Phase.INITIALIZE:
+            return [self._enter(Phase.IDLE, t, 'stop requested before the first step')]
+        if status.phase in (Phase.SINGLE_SUPPORT, Phase.DOUBLE_SUPPORT):
+            self._status = replace(status, stop_requested=True, reason='stop requested')
+        return []
+
+    def report_fall(self, t: float, reason: str = 'fall detected') -> List[WalkingStatus]:
+        """Enter Fallen (from any phase but Fallen)."""
+        if self._status.phase == Phase.FALLEN:
+            return []
+        return [self._enter(Phase.FALLEN, t, reason, support=Support.BOTH)]
+
+    def reset(self, t: float) -> List[WalkingStatus]:
+        """Leave Fallen for Idle (the robot stands again)."""
+        if self._status.phase != Phase.FALLEN:
+            return []
+        return [self._enter(Phase.IDLE, t, 'reset', step_index=0)]
+
+    def update(self, t: float) -> List[WalkingStatus]:
+        """Advance the timers to clock time t.
+
+        Several transitions can happen in one call when t jumped past more than one phase.
+
+        :param t: clock time (s), not earlier than the start of the current phase
+        :return: the status after each transition, in order (empty if none happened)
+        """
+        if not math.isfinite(t):
+            raise CommandError(f'time must be finite, got {t!r}')
+        transitions = []
+        while True:
+            status = self._status
+            if status.phase in (Phase.IDLE, Phase.FALLEN):
+                break
+            end = status.phase_start + status.phase_duration
+            if t < end:
+                break
+            transitions.append(self._after_timer(end))
+        return transitions
+
+    def _after_timer(self, t: float) -> WalkingStatus:
+        status = self._status
+        if status.phase == Phase.INITIALIZE:
+            if self._steps_in_plan == 0:
+                return self._enter(Phase.IDLE, t, 'the plan has no step')
+            return self._enter(Phase.SINGLE_SUPPORT, t, 'COM over the first support foot',
+                               support=self._first_support)
+        if status.phase == Phase.SINGLE_SUPPORT:
+            return self._enter(Phase.DOUBLE_SUPPORT, t, 'swing foot landed',
+                               support=Support.BOTH)
+        # End of a double support: one step done.
+        steps = status.step_index + 1
+        if status.stop_requested:
+            return self._enter(Phase.IDLE, t, 'stopped after the step', step_index=steps)
+        if self._steps_in_plan is not None and steps >= self._steps_in_plan:
+            return self._enter(Phase.IDLE, t, 'plan finished', step_index=steps)
+        return self._enter(Phase.SINGLE_SUPPORT, t, 'next step', step_index=steps,
+                           support=self.support_of_step(steps))
+
+    def support_of_step(self, step_index: int) -> Support:
+        """:return: the support foot of single support number step_index (0-based)."""
+        first = self._first_support
+        return first if step_index % 2 == 0 else Support(1 - first)
+
+    def _enter(self, phase: Phase, t: float, reason: str, **changes) -> WalkingStatus:
+        durations = {
+            Phase.INITIALIZE: self.params.initialize_duration,
+            Phase.SINGLE_SUPPORT: self._timing.single_support,
+            Phase.DOUBLE_SUPPORT: self._timing.double_support,
+        }
+        changes.setdefault('support', Support.BOTH)
+        if phase in (Phase.IDLE, Phase.FALLEN):
+            changes['stop_requested'] = False
+        self._status = replace(self._status, phase=phase, phase_start=t,
+                               phase_duration=durations.get(phase, 0.0), reason=reason,
+                               **changes)
+        return self._status
+
+
+@dataclass(frozen=True)
+class FallDetectorParams:
+    """Thresholds of the fall detector.
+
+    :param min_base_height: pelvis height below which the robot has fallen (m), [0.05, 2]
+    :param max_tilt: torso tilt from vertical above which the robot has fallen (rad), (0, pi/2]
+    """
+
+    min_base_height: float = 0.45
+    max_tilt: float = 0.7
+
+    def __post_init__(self) -> None:
+        _check_range('min_base_height', self.min_base_height, 0.05, 2.0)
+        _check_range('max_tilt', self.max_tilt, 1e-3, math.pi / 2)
+
+
+def detect_fall(base_height: float, orientation_xyzw, params: FallDetectorParams) -> Optional[str]:
+    """Tell whether the robot has fallen, from its pelvis height and orientation.
+
+    :param base_height: pelvis height above the ground (m)
+    :param orientation_xyzw: pelvis orientation quaternion (x, y, z, w)
+    :param params: thresholds
+    :return: the reason if fallen, else None; non-finite inputs count as no information (None)
+    """
+    x, y, z, w = (float(v) for v in orientation_xyzw)
+    if not all(math.isfinite(v) for v in (base_height, x, y, z, w)):
+        return None
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if norm < 1e-9:
+        return None
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    # z component of the body's up axis in the world: cos(tilt)
+    up_z = 1.0 - 2.0 * (x * x + y * y)
+    tilt = math.acos(max(-1.0, min(1.0, up_z)))
+    if base_height < params.min_base_height:
+        return f'pelvis height {base_height:.3f} m below {params.min_base_height} m'
+    if tilt > params.max_tilt:
+        return f'torso tilt {math.degrees(tilt):.1f} deg above ' \
+               f'{math.degrees(params.max_tilt):.1f} deg'
+    return None
