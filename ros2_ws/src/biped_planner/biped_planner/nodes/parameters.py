@@ -1,0 +1,92 @@
+"""ROS parameters from a frozen parameter dataclass: one parameter per field.
+
+The dataclass stays the source of truth (defaults, units, validation in __post_init__); this module
+declares each field with a ParameterDescriptor (description and range), builds the dataclass from
+the values, and rejects live changes that the dataclass refuses. Shared by the nodes of every
+biped package.
+"""
+import dataclasses
+import math
+from typing import Callable, Dict, Optional, Tuple, Type, TypeVar
+
+from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
+                                SetParametersResult)
+from rclpy.node import Node
+
+T = TypeVar('T')
+# field name -> (description with unit, (low, high) or None)
+ParameterSpecs = Dict[str, Tuple[str, Optional[Tuple[float, float]]]]
+
+
+def _descriptor(name: str, value, description: str, bounds) -> ParameterDescriptor:
+    descriptor = ParameterDescriptor(name=name, description=description)
+    if bounds is None:
+        return descriptor
+    low, high = bounds
+    if isinstance(value, bool):
+        return descriptor
+    if isinstance(value, int):
+        descriptor.integer_range = [IntegerRange(from_value=int(low), to_value=int(high), step=1)]
+    elif isinstance(value, float) and math.isfinite(low) and math.isfinite(high):
+        descriptor.floating_point_range = [
+            FloatingPointRange(from_value=float(low), to_value=float(high), step=0.0)]
+    return descriptor
+
+
+def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
+                                 prefix: str = '',
+                                 on_change: Optional[Callable[[T], None]] = None) -> T:
+    """Declare one parameter per dataclass field and return the dataclass built from them.
+
+    :param node: the node that owns the parameters
+    :param defaults: a dataclass instance whose values are the defaults
+    :param specs: description (with unit) and allowed range of each field; every field needs one
+    :param prefix: parameter name prefix, e.g. 'timing.' (empty: the field names)
+    :param on_change: called with the new dataclass after an accepted live change; None makes
+        every live change of these parameters rejected (the node cannot honour it)
+    :return: the dataclass built from the declared values
+    :raises ValueError: when the values given at start-up are refused by the dataclass
+    """
+    cls: Type[T] = type(defaults)
+    names = [f.name for f in dataclasses.fields(cls)]
+    missing = [n for n in names if n not in specs]
+    if missing:
+        raise KeyError(f'no parameter description for {cls.__name__} fields {missing}')
+    for name in names:
+        value = getattr(defaults, name)
+        if isinstance(value, tuple):
+            value = [float(v) for v in value]
+        elif isinstance(value, int) and not isinstance(value, bool):
+            value = int(value)
+        description, bounds = specs[name]
+        node.declare_parameter(prefix + name, value,
+                               _descriptor(prefix + name, value, description, bounds))
+    current = _build(cls, node, names, prefix, {})
+
+    def on_set(parameters) -> SetParametersResult:
+        changes = {p.name[len(prefix):]: p.value for p in parameters
+                   if p.name.startswith(prefix) and p.name[len(prefix):] in names}
+        if not changes:
+            return SetParametersResult(successful=True)
+        if on_change is None:
+            return SetParametersResult(
+                successful=False, reason=f'{sorted(changes)} cannot change while running')
+        try:
+            updated = _build(cls, node, names, prefix, changes)
+        except (ValueError, TypeError) as error:
+            return SetParametersResult(successful=False, reason=str(error))
+        on_change(updated)
+        return SetParametersResult(successful=True)
+
+    node.add_on_set_parameters_callback(on_set)
+    return current
+
+
+def _build(cls, node: Node, names, prefix: str, overrides: dict):
+    values = {}
+    for name in names:
+        value = overrides.get(name, node.get_parameter(prefix + name).value)
+        if isinstance(value, list):
+            value = tuple(value)
+        values[name] = value
+    return cls(**values)

@@ -1,0 +1,174 @@
+"""The walking state machine node: walk commands and plans in, walking state out.
+
+Subscribes: walk_command (biped_msgs/WalkCommand), footstep_plan (biped_msgs/FootstepPlan,
+transient local), odom (nav_msgs/Odometry, for fall detection).
+Publishes: walking_state (biped_msgs/WalkingState) on every transition and at publish_rate,
+walk_command_status (biped_msgs/CommandStatus) for every command received.
+"""
+from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkCommandMsg, WalkingState
+from nav_msgs.msg import Odometry
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from biped_planner.errors import CommandError
+from biped_planner.nodes.conversions import (command_status_msg, walk_command_from_msg,
+                                             walking_state_msg)
+from biped_planner.nodes.node_runner import run_node
+from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.walk_command import CommandKind, CommandLimits
+from biped_planner.walking_state_machine import (detect_fall, FallDetectorParams, Phase,
+                                                 StateMachineParams, Support,
+                                                 WalkingStateMachine)
+
+TIMING_SPECS = {
+    'initialize_duration': ('time to shift the COM over the first support foot (s)', (0.1, 5.0)),
+    'single_support': ('default single support duration (s)', (0.1, 5.0)),
+    'double_support': ('default double support duration (s)', (0.02, 5.0)),
+    'first_support': ('first support foot when no plan says: 0 left, 1 right', (0, 1)),
+}
+FALL_SPECS = {
+    'min_base_height': ('pelvis height below which the robot has fallen (m)', (0.05, 2.0)),
+    'max_tilt': ('torso tilt above which the robot has fallen (rad)', (0.001, 1.5708)),
+}
+LIMIT_SPECS = {
+    'max_step_length': ('largest |step_length| of an OMNI command (m)', (0.01, 1.0)),
+    'max_step_width': ('largest |step_width| of an OMNI command (m)', (0.01, 1.0)),
+    'max_step_angle': ('largest |step_angle| of an OMNI command (rad)', (0.01, 1.5)),
+    'min_step_time': ('shortest step_time a command may ask for (s)', (0.05, 10.0)),
+    'max_step_time': ('longest step_time a command may ask for (s)', (0.05, 10.0)),
+    'max_goal_distance': ('largest |goal_x|, |goal_y| of a GOTO command (m)', (1.0, 1e6)),
+}
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
+
+
+class StateMachineNode(Node):
+    """Thin adapter over biped_planner.walking_state_machine.WalkingStateMachine."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('state_machine', **kwargs)
+        params = declare_dataclass_parameters(self, StateMachineParams(), TIMING_SPECS,
+                                              on_change=self._on_timing_change)
+        self._fall_params = declare_dataclass_parameters(
+            self, FallDetectorParams(), FALL_SPECS, prefix='fall.',
+            on_change=lambda p: setattr(self, '_fall_params', p))
+        self._limits = declare_dataclass_parameters(
+            self, CommandLimits(), LIMIT_SPECS, prefix='limits.',
+            on_change=lambda p: setattr(self, '_limits', p))
+        self.declare_parameter('publish_rate', 50.0)
+        self.declare_parameter('update_rate', 200.0)
+        self.declare_parameter('fall_detection', True)
+
+        self._machine = WalkingStateMachine(params)
+        self._plan_id = 0
+        self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
+        self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
+        self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
+        self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED)
+        self.create_subscription(Odometry, 'odom', self._on_odometry, 10)
+        update_period = 1.0 / max(1.0, self.get_parameter('update_rate').value)
+        self._publish_period = 1.0 / max(0.1, self.get_parameter('publish_rate').value)
+        self._last_publish = None
+        self.create_timer(update_period, self._on_update)
+        self.get_logger().info('walking state machine ready (Idle)')
+
+    def _now(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    def _on_timing_change(self, params: StateMachineParams) -> None:
+        self._machine.set_timing(params.single_support, params.double_support)
+
+    def _publish(self, status, now: float) -> None:
+        self._state_pub.publish(walking_state_msg(
+            status, now, self.get_clock().now().to_msg(), self._plan_id, inputs_stale=False))
+        self._last_publish = now
+
+    def _publish_transitions(self, transitions, now: float) -> None:
+        for status in transitions:
+            self.get_logger().info(
+                f'{status.phase.name} (step {status.step_index}, support '
+                f'{status.support.name}): {status.reason}')
+            self._publish(status, now)
+
+    def _answer(self, command: int, error_code: int, error_msg: str = '') -> None:
+        if error_code != CommandStatus.OK:
+            self.get_logger().warning(f'walk command {command} rejected: {error_msg}')
+        self._status_pub.publish(command_status_msg(
+            self.get_name(), command, error_code, error_msg, self.get_clock().now().to_msg()))
+
+    def _on_command(self, msg: WalkCommandMsg) -> None:
+        now = self._now()
+        try:
+            command = walk_command_from_msg(msg, self._limits)
+        except CommandError as error:
+            unknown = msg.command not in {k.value for k in CommandKind}
+            self._answer(msg.command, CommandStatus.UNKNOWN_COMMAND if unknown
+                         else CommandStatus.INVALID_VALUE, str(error))
+            return
+        try:
+            transitions = self._machine.update(now)
+            if command.step_time > 0.0:
+                self._machine.set_step_time(command.step_time)
+            if command.kind == CommandKind.STOP:
+                transitions += self._machine.request_stop(now)
+            elif command.kind == CommandKind.RESET:
+                transitions += self._machine.reset(now)
+            else:
+                if command.kind == CommandKind.START:
+                    # START walks in place (or along a plan that arrives): no step limit.
+                    self._machine.set_plan(None)
+                transitions += self._machine.request_start(now)
+        except CommandError as error:
+            self._answer(msg.command, CommandStatus.NOT_ALLOWED, str(error))
+            return
+        self._publish_transitions(transitions, now)
+        self._answer(msg.command, CommandStatus.OK)
+
+    def _on_plan(self, msg: FootstepPlan) -> None:
+        now = self._now()
+        transitions = self._machine.update(now)
+        if msg.status != FootstepPlan.STATUS_OK:
+            self.get_logger().warning(f'plan {msg.plan_id} failed ({msg.error_code}): '
+                                      f'{msg.error_msg}; stopping')
+            transitions += self._machine.request_stop(now)
+        else:
+            self._plan_id = msg.plan_id
+            steps = None if msg.continuous else max(0, len(msg.footsteps) - 2)
+            first = Support(msg.footsteps[0].side) if msg.footsteps and \
+                msg.footsteps[0].side in (0, 1) else None
+            try:
+                self._machine.set_plan(steps, first)
+                if msg.single_support > 0.0 and msg.double_support > 0.0:
+                    self._machine.set_timing(msg.single_support, msg.double_support)
+            except CommandError as error:
+                self.get_logger().warning(f'plan {msg.plan_id} ignored: {error}')
+        self._publish_transitions(transitions, now)
+
+    def _on_odometry(self, msg: Odometry) -> None:
+        if not self.get_parameter('fall_detection').value:
+            return
+        q = msg.pose.pose.orientation
+        reason = detect_fall(msg.pose.pose.position.z, (q.x, q.y, q.z, q.w), self._fall_params)
+        if reason is not None:
+            now = self._now()
+            self._publish_transitions(self._machine.report_fall(now, reason), now)
+
+    def _on_update(self) -> None:
+        now = self._now()
+        transitions = self._machine.update(now)
+        self._publish_transitions(transitions, now)
+        if not transitions and (self._last_publish is None or now < self._last_publish or
+                                now - self._last_publish >= self._publish_period):
+            self._publish(self._machine.status, now)
+
+    @property
+    def phase(self) -> Phase:
+        return self._machine.status.phase
+
+
+def main(args=None) -> None:
+    run_node(StateMachineNode, args)
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,51 @@
+"""Fixtures for node and graph tests: own rclpy context per test, own ROS_DOMAIN_ID per worker,
+discovery on localhost only, and real processes that are always torn down."""
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from ros_harness import domain_id_for_worker, new_context, ProcessGroup  # noqa: E402
+
+os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+os.environ['ROS_DOMAIN_ID'] = str(domain_id_for_worker())
+
+
+@pytest.fixture
+def ros_context():
+    """A fresh rclpy context for one test; nodes made on it must be destroyed by the test."""
+    import rclpy
+    context = new_context()
+    yield context
+    rclpy.try_shutdown(context=context)
+
+
+@pytest.fixture
+def executor(ros_context):
+    from rclpy.executors import SingleThreadedExecutor
+    executor = SingleThreadedExecutor(context=ros_context)
+    nodes = []
+
+    def track(node):
+        """Spin the node with this executor and destroy it after the test."""
+        nodes.append(node)
+        executor.add_node(node)
+        return node
+
+    executor.track = track
+    yield executor
+    for node in nodes:
+        executor.remove_node(node)
+        node.destroy_node()
+    executor.shutdown()
+
+
+@pytest.fixture
+def processes():
+    """Start real processes with processes.start([...]); all are stopped after the test."""
+    group = ProcessGroup()
+    yield group
+    group.stop_all()
