@@ -1,0 +1,279 @@
+#!/usr/bin/env python3
+"""Bring up the biped node graph: one process per node, like `ros2 launch` (not available here).
+
+Starts each selected node with its parameter file, waits until every node is on the ROS graph,
+forwards their logs with a [node] prefix, and stops the whole graph (SIGINT, wait, SIGKILL) on
+Ctrl-C / SIGTERM, or as soon as one node dies, naming it.
+
+  .venv/bin/python scripts/bringup.py                      # every node, headless
+  .venv/bin/python scripts/bringup.py --nodes state_machine --domain-id 7
+  .venv/bin/python scripts/bringup.py --gui --backend pybullet -p simulator:real_time:=true
+"""
+import argparse
+from dataclasses import dataclass, field
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import threading
+import time
+from typing import Dict, List, Optional
+
+REPO = Path(__file__).resolve().parent.parent
+INSTALL = REPO / 'ros2_ws' / 'install'
+
+
+@dataclass(frozen=True)
+class NodeSpec:
+    """How to start one node: its package, executable and default parameter file."""
+
+    name: str
+    package: str
+    executable: str
+
+    @property
+    def default_params(self) -> Path:
+        return INSTALL / self.package / 'share' / self.package / 'config' / f'{self.name}.yaml'
+
+    @property
+    def program(self) -> Path:
+        return INSTALL / self.package / 'lib' / self.package / self.executable
+
+
+# Start order: producers of latched data first.
+KNOWN_NODES: Dict[str, NodeSpec] = {spec.name: spec for spec in [
+    NodeSpec('simulator', 'biped_sim', 'simulator'),
+    NodeSpec('state_machine', 'biped_planner', 'state_machine'),
+    NodeSpec('footstep_planner', 'biped_planner', 'footstep_planner'),
+    NodeSpec('reference_generator', 'biped_planner', 'reference_generator'),
+    NodeSpec('mpc_controller', 'biped_mpc', 'mpc_controller'),
+]}
+
+
+def available_nodes() -> List[str]:
+    """The known nodes whose executable is installed, in start order."""
+    return [name for name, spec in KNOWN_NODES.items() if spec.program.exists()]
+
+
+@dataclass
+class GraphOptions:
+    """What to start and how.
+
+    :param nodes: node names, in KNOWN_NODES
+    :param params_files: node name -> parameter file replacing its default one
+    :param overrides: node name -> ['param:=value', ...] given with -p on the command line
+    :param domain_id: ROS_DOMAIN_ID of every process (None: inherit)
+    :param backend: simulator backend ('pybullet' or 'model')
+    :param gui: open the simulator's GUI window
+    :param use_sim_time: every node follows the simulator's /clock
+    """
+
+    nodes: List[str]
+    params_files: Dict[str, Path] = field(default_factory=dict)
+    overrides: Dict[str, List[str]] = field(default_factory=dict)
+    domain_id: Optional[int] = None
+    backend: str = 'pybullet'
+    gui: bool = False
+    use_sim_time: bool = False
+
+
+class NodeGraph:
+    """The node processes of one bring-up."""
+
+    def __init__(self, options: GraphOptions, log=print) -> None:
+        unknown = [n for n in options.nodes if n not in KNOWN_NODES]
+        if unknown:
+            raise ValueError(f'unknown nodes {unknown}; known: {list(KNOWN_NODES)}')
+        missing = [n for n in options.nodes if not KNOWN_NODES[n].program.exists()]
+        if missing:
+            raise FileNotFoundError(
+                f'nodes {missing} are not installed under {INSTALL}; run scripts/setup.sh')
+        self.options = options
+        self.log = log
+        self.processes: Dict[str, subprocess.Popen] = {}
+        self._threads: List[threading.Thread] = []
+        self._stopping = False
+
+    def environment(self) -> dict:
+        env = dict(os.environ)
+        env.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+        if self.options.domain_id is not None:
+            env['ROS_DOMAIN_ID'] = str(self.options.domain_id)
+        env['PYTHONUNBUFFERED'] = '1'
+        env['RCUTILS_COLORIZED_OUTPUT'] = '0'
+        env['RCUTILS_CONSOLE_OUTPUT_FORMAT'] = '[{severity}] {message}'
+        return env
+
+    def command(self, name: str) -> List[str]:
+        spec = KNOWN_NODES[name]
+        params = self.options.params_files.get(name, spec.default_params)
+        args = [sys.executable, str(spec.program), '--ros-args', '-r', f'__node:={name}']
+        if Path(params).exists():
+            args += ['--params-file', str(params)]
+        if self.options.use_sim_time and name != 'simulator':
+            args += ['-p', 'use_sim_time:=true']
+        if name == 'simulator':
+            args += ['-p', f'backend:={self.options.backend}',
+                     '-p', f'gui:={str(self.options.gui).lower()}']
+        for override in self.options.overrides.get(name, []):
+            args += ['-p', override]
+        return args
+
+    def start(self) -> None:
+        env = self.environment()
+        width = max(len(n) for n in self.options.nodes)
+        for name in self.options.nodes:
+            process = subprocess.Popen(self.command(name), env=env, stdout=subprocess.PIPE,
+                                       stderr=subprocess.STDOUT, text=True, bufsize=1,
+                                       start_new_session=True)
+            self.processes[name] = process
+            thread = threading.Thread(target=self._forward, args=(name.ljust(width), process),
+                                      daemon=True)
+            thread.start()
+            self._threads.append(thread)
+            self.log(f'[bringup] started {name} (pid {process.pid})')
+
+    def _forward(self, prefix: str, process: subprocess.Popen) -> None:
+        for line in process.stdout:
+            self.log(f'[{prefix}] {line.rstrip()}')
+
+    def wait_until_up(self, timeout: float = 30.0, abort: Optional[threading.Event] = None
+                      ) -> None:
+        """Wait until every node is on the ROS graph (or abort is set).
+
+        :raises TimeoutError: naming the nodes not seen in time
+        :raises RuntimeError: naming a node that died while starting
+        """
+        import rclpy
+        from rclpy.context import Context
+        context = Context()
+        domain = self.options.domain_id
+        rclpy.init(context=context, **({} if domain is None else {'domain_id': domain}))
+        watcher = rclpy.create_node('bringup_watcher', context=context)
+        try:
+            deadline = time.monotonic() + timeout
+            expected = set(self.options.nodes)
+            while abort is None or not abort.is_set():
+                self.check_alive()
+                seen = {name for name, _ in watcher.get_node_names_and_namespaces()}
+                if expected <= seen:
+                    self.log(f'[bringup] all nodes up: {", ".join(self.options.nodes)}')
+                    return
+                if time.monotonic() > deadline:
+                    raise TimeoutError(f'nodes not up after {timeout} s: '
+                                       f'{sorted(expected - seen)}')
+                time.sleep(0.1)
+        finally:
+            watcher.destroy_node()
+            rclpy.try_shutdown(context=context)
+
+    def dead_node(self) -> Optional[str]:
+        """:return: the first node whose process has exited, or None."""
+        for name, process in self.processes.items():
+            if process.poll() is not None:
+                return name
+        return None
+
+    def check_alive(self) -> None:
+        """:raises RuntimeError: naming the node that died and its exit status."""
+        name = self.dead_node()
+        if name is not None and not self._stopping:
+            code = self.processes[name].returncode
+            how = f'signal {-code}' if code < 0 else f'exit code {code}'
+            raise RuntimeError(f'node {name} died ({how}); stopping the graph')
+
+    def stop(self, grace: float = 5.0) -> None:
+        """SIGINT to every node, then SIGKILL to those still running after grace seconds."""
+        self._stopping = True
+        for process in self.processes.values():
+            if process.poll() is None:
+                process.send_signal(signal.SIGINT)
+        deadline = time.monotonic() + grace
+        for name, process in self.processes.items():
+            try:
+                process.wait(timeout=max(0.05, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                self.log(f'[bringup] {name} ignored SIGINT for {grace} s: SIGKILL')
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+        for thread in self._threads:
+            thread.join(timeout=1.0)
+        self.log('[bringup] all nodes stopped')
+
+
+def parse_overrides(values: List[str]) -> Dict[str, List[str]]:
+    overrides: Dict[str, List[str]] = {}
+    for value in values:
+        node, sep, assignment = value.partition(':')
+        if not sep or ':=' not in assignment:
+            raise argparse.ArgumentTypeError(f'-p {value!r}: expected node:param:=value')
+        overrides.setdefault(node, []).append(assignment)
+    return overrides
+
+
+def parse_params_files(values: List[str]) -> Dict[str, Path]:
+    files = {}
+    for value in values:
+        node, sep, path = value.partition('=')
+        if not sep:
+            raise argparse.ArgumentTypeError(f'--params-file {value!r}: expected node=path')
+        files[node] = Path(path).resolve()
+    return files
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--nodes', nargs='+', default=None,
+                        help=f'nodes to start (default: all installed of {list(KNOWN_NODES)})')
+    parser.add_argument('--params-file', action='append', default=[], metavar='NODE=PATH',
+                        help='replace a node\'s default parameter file')
+    parser.add_argument('-p', '--param', action='append', default=[],
+                        metavar='NODE:NAME:=VALUE', help='override one parameter of a node')
+    parser.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID (0-101)')
+    parser.add_argument('--backend', choices=['pybullet', 'model'], default='pybullet',
+                        help='simulator backend')
+    parser.add_argument('--gui', action='store_true', help='open the simulator window')
+    parser.add_argument('--sim-time', action='store_true',
+                        help='every node follows the simulator\'s /clock')
+    parser.add_argument('--timeout', type=float, default=30.0,
+                        help='seconds to wait for all nodes to come up')
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.domain_id is not None and not 0 <= args.domain_id <= 101:
+        print(f'[bringup] error: --domain-id {args.domain_id} outside [0, 101]', file=sys.stderr)
+        return 2
+    options = GraphOptions(nodes=args.nodes or available_nodes(),
+                           params_files=parse_params_files(args.params_file),
+                           overrides=parse_overrides(args.param), domain_id=args.domain_id,
+                           backend=args.backend, gui=args.gui, use_sim_time=args.sim_time)
+    stop = threading.Event()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda *_: stop.set())
+    try:
+        graph = NodeGraph(options)
+    except (ValueError, FileNotFoundError) as error:
+        print(f'[bringup] error: {error}', file=sys.stderr)
+        return 2
+    graph.start()
+    status = 0
+    try:
+        graph.wait_until_up(args.timeout, abort=stop)
+        while not stop.is_set():
+            graph.check_alive()
+            stop.wait(0.1)
+        print('[bringup] shutting down')
+    except (RuntimeError, TimeoutError) as error:
+        print(f'[bringup] error: {error}', file=sys.stderr)
+        status = 1
+    finally:
+        graph.stop()
+    return status
+
+
+if __name__ == '__main__':
+    sys.exit(main())
