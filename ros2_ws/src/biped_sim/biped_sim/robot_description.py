@@ -1,0 +1,185 @@
+"""Robot description: what the simulator, the IK and the controller need to know about a humanoid.
+
+Any humanoid loads through a :class:`RobotDescription`: its URDF, the 12 leg joints in the order
+(left hip yaw, hip roll, hip pitch, knee, ankle pitch, ankle roll, then the same for the right
+leg), the sole frames, the IMU link, the ankle force/torque joints and a nominal standing pose.
+A robot whose legs have intersecting hip and ankle axes also gives its :class:`LegGeometry`
+for the exact analytic IK.
+"""
+
+from dataclasses import dataclass
+from dataclasses import field
+import math
+from pathlib import Path
+from types import MappingProxyType
+from typing import Mapping, Optional
+
+import numpy as np
+
+from biped_sim import robot_builder
+from biped_sim.errors import ConfigError
+
+LEG_JOINT_ROLES = ('hip_yaw', 'hip_roll', 'hip_pitch', 'knee', 'ankle_pitch', 'ankle_roll')
+
+
+def _vector(name: str, value, size: int) -> tuple:
+    array = np.asarray(value, dtype=float)
+    if array.shape != (size,) or not np.all(np.isfinite(array)):
+        raise ConfigError('%s = %r must be %d finite numbers' % (name, value, size))
+    return tuple(float(v) for v in array)
+
+
+@dataclass(frozen=True)
+class LegGeometry:
+    """Leg dimensions of a robot with intersecting hip axes and intersecting ankle axes.
+
+    Zero joint angles put the leg straight down with the foot parallel to the pelvis. The right
+    leg mirrors the left one in y.
+
+    :param hip_offset: left hip centre (intersection of the hip axes) in the pelvis frame (m).
+    :param thigh_length: hip centre to knee axis (m), > 0.
+    :param shank_length: knee axis to ankle centre (m), > 0.
+    :param ankle_to_sole: left sole centre relative to the ankle centre in the foot frame (m).
+    :param joint_lower: lower limits of the 12 leg joints in leg-joint order (rad).
+    :param joint_upper: upper limits of the 12 leg joints in leg-joint order (rad).
+    """
+
+    hip_offset: tuple
+    thigh_length: float
+    shank_length: float
+    ankle_to_sole: tuple
+    joint_lower: tuple
+    joint_upper: tuple
+
+    def __post_init__(self):
+        object.__setattr__(self, 'hip_offset', _vector('hip_offset', self.hip_offset, 3))
+        object.__setattr__(self, 'ankle_to_sole',
+                           _vector('ankle_to_sole', self.ankle_to_sole, 3))
+        object.__setattr__(self, 'joint_lower', _vector('joint_lower', self.joint_lower, 12))
+        object.__setattr__(self, 'joint_upper', _vector('joint_upper', self.joint_upper, 12))
+        for name in ('thigh_length', 'shank_length'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError('%s = %r m must be finite and > 0' % (name, value))
+        if not np.all(np.array(self.joint_lower) < np.array(self.joint_upper)):
+            raise ConfigError('joint_lower %r must be below joint_upper %r'
+                              % (self.joint_lower, self.joint_upper))
+
+
+@dataclass(frozen=True)
+class RobotDescription:
+    """Everything the stack needs to know about a humanoid beyond its URDF.
+
+    :param name: robot name.
+    :param urdf_path: absolute path of the URDF file.
+    :param base_link: the floating base (pelvis) link; its frame is the hip pose of the IK.
+    :param leg_joint_names: the 12 leg joints, left leg then right leg, each in the order
+        hip yaw, hip roll, hip pitch, knee, ankle pitch, ankle roll.
+    :param sole_frames: (left, right) links whose frames are at the sole centres, z up.
+    :param imu_link: link of the IMU.
+    :param ft_joints: (left, right) fixed joints of the ankle force/torque sensors.
+    :param sole_length: length of the foot sole along its x axis (m).
+    :param sole_width: width of the foot sole along its y axis (m).
+    :param nominal_joint_positions: standing pose, joint name -> angle (rad); joints not listed
+        stand at 0.
+    :param leg_geometry: dimensions for the analytic leg IK, None if the legs do not allow it.
+    """
+
+    name: str
+    urdf_path: str
+    base_link: str
+    leg_joint_names: tuple
+    sole_frames: tuple
+    imu_link: str
+    ft_joints: tuple
+    sole_length: float
+    sole_width: float
+    nominal_joint_positions: Mapping = field(default_factory=dict)
+    leg_geometry: Optional[LegGeometry] = None
+
+    def __post_init__(self):
+        if not Path(self.urdf_path).is_file():
+            raise ConfigError('urdf_path = %r is not a file' % (self.urdf_path,))
+        if len(self.leg_joint_names) != 12 or len(set(self.leg_joint_names)) != 12:
+            raise ConfigError('leg_joint_names = %r must be 12 distinct names'
+                              % (self.leg_joint_names,))
+        for name in ('sole_frames', 'ft_joints'):
+            if len(getattr(self, name)) != 2:
+                raise ConfigError('%s = %r must be (left, right)' % (name, getattr(self, name)))
+        for name in ('sole_length', 'sole_width'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError('%s = %r m must be finite and > 0' % (name, value))
+        nominal = {str(k): float(v) for k, v in dict(self.nominal_joint_positions).items()}
+        bad = {k: v for k, v in nominal.items() if not math.isfinite(v)}
+        if bad:
+            raise ConfigError('nominal_joint_positions has non-finite angles %r' % (bad,))
+        object.__setattr__(self, 'nominal_joint_positions', MappingProxyType(nominal))
+        object.__setattr__(self, 'leg_joint_names', tuple(self.leg_joint_names))
+        object.__setattr__(self, 'sole_frames', tuple(self.sole_frames))
+        object.__setattr__(self, 'ft_joints', tuple(self.ft_joints))
+
+    def nominal_leg_positions(self) -> np.ndarray:
+        """Return the nominal angles of the 12 leg joints (rad), leg-joint order."""
+        return np.array([self.nominal_joint_positions.get(n, 0.0) for n in self.leg_joint_names])
+
+
+def crouched_leg_angles(geometry: LegGeometry, hip_height: float) -> np.ndarray:
+    """Return the 6 angles of a leg standing straight below its hip with the knee bent.
+
+    The hip centre is hip_height above the sole, directly above the ankle, with the foot flat:
+    hip pitch = ankle pitch = -theta and knee = 2 theta for equal thigh and shank, in general
+    from the law of cosines.
+
+    :param geometry: leg dimensions.
+    :param hip_height: height of the hip centre above the sole (m).
+    :return: (6,) hip yaw, hip roll, hip pitch, knee, ankle pitch, ankle roll (rad).
+    :raises ConfigError: if the height cannot be reached with a bent knee.
+    """
+    a, b = geometry.thigh_length, geometry.shank_length
+    d = hip_height + geometry.ankle_to_sole[2]
+    if not (abs(a - b) < d < a + b):
+        raise ConfigError('hip_height = %r m is out of the leg range (%.3f, %.3f) m'
+                          % (hip_height, abs(a - b) - geometry.ankle_to_sole[2],
+                             a + b - geometry.ankle_to_sole[2]))
+    knee = math.pi - math.acos((a * a + b * b - d * d) / (2.0 * a * b))
+    hip = -math.acos((a * a + d * d - b * b) / (2.0 * a * d))
+    return np.array([0.0, 0.0, hip, knee, -(knee + hip), 0.0])
+
+
+COMAN_LIKE_NOMINAL_HIP_HEIGHT = 0.47  # m, hip centre above the soles when standing crouched
+
+
+def coman_like() -> RobotDescription:
+    """Return the description of the COMAN-like humanoid built by robot_builder.
+
+    The nominal pose stands crouched with the hip centres COMAN_LIKE_NOMINAL_HIP_HEIGHT above
+    the soles (pelvis frame 0.07 m higher), feet below the hips, arms slightly bent.
+    """
+    model = robot_builder.build_coman_like()
+    limits = {j.name: j.limits for j in model.joints if not j.is_fixed}
+    leg_joint_names = tuple('%s_%s_joint' % (side, role)
+                            for side in ('l', 'r') for role in LEG_JOINT_ROLES)
+    geometry = LegGeometry(
+        hip_offset=robot_builder.HIP_OFFSET,
+        thigh_length=robot_builder.THIGH_LENGTH,
+        shank_length=robot_builder.SHANK_LENGTH,
+        ankle_to_sole=(0.0, 0.0, -(robot_builder.ANKLE_TO_FT + robot_builder.FT_TO_SOLE)),
+        joint_lower=tuple(limits[n].lower for n in leg_joint_names),
+        joint_upper=tuple(limits[n].upper for n in leg_joint_names))
+    leg = crouched_leg_angles(geometry, COMAN_LIKE_NOMINAL_HIP_HEIGHT)
+    nominal = {name: float(angle) for name, angle in zip(leg_joint_names, np.tile(leg, 2))}
+    nominal.update({'l_shoulder_roll_joint': 0.15, 'r_shoulder_roll_joint': -0.15,
+                    'l_elbow_joint': -0.4, 'r_elbow_joint': -0.4})
+    return RobotDescription(
+        name='coman_like',
+        urdf_path=str(robot_builder.COMAN_LIKE_URDF),
+        base_link='pelvis',
+        leg_joint_names=leg_joint_names,
+        sole_frames=('l_sole', 'r_sole'),
+        imu_link='imu_link',
+        ft_joints=('l_ankle_ft_joint', 'r_ankle_ft_joint'),
+        sole_length=robot_builder.FOOT_LENGTH,
+        sole_width=robot_builder.FOOT_WIDTH,
+        nominal_joint_positions=nominal,
+        leg_geometry=geometry)
