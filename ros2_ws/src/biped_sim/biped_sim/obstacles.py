@@ -1,0 +1,105 @@
+"""Static obstacles for the simulator, from a planner-like list of boxes and discs.
+
+The planner describes obstacles in the ground plane; the simulator extrudes them to a height.
+:func:`as_sim_obstacle` accepts these classes or any object with the same attributes (duck
+typing, so biped_sim does not import the planner): a disc has ``radius`` and a centre given as
+``x, y`` or ``center``; a box has ``x, y, size_x, size_y`` (optional ``yaw``) or
+``x_min, y_min, x_max, y_max``.
+"""
+
+from dataclasses import dataclass
+import math
+
+from biped_sim.errors import ConfigError
+
+DEFAULT_OBSTACLE_HEIGHT = 0.5  # m
+
+
+def _check(owner: str, name: str, value: float, positive: bool) -> float:
+    value = float(value)
+    if not math.isfinite(value) or (positive and value <= 0.0):
+        raise ConfigError('%s.%s = %r must be finite%s'
+                          % (owner, name, value, ' and > 0' if positive else ''))
+    return value
+
+
+@dataclass(frozen=True)
+class BoxObstacle:
+    """An upright box standing on the ground.
+
+    :param x: centre x (m).
+    :param y: centre y (m).
+    :param size_x: length along its own x axis (m), > 0.
+    :param size_y: length along its own y axis (m), > 0.
+    :param yaw: heading of its x axis (rad).
+    :param height: height (m), > 0.
+    """
+
+    x: float
+    y: float
+    size_x: float
+    size_y: float
+    yaw: float = 0.0
+    height: float = DEFAULT_OBSTACLE_HEIGHT
+
+    def __post_init__(self):
+        for name in ('x', 'y', 'yaw'):
+            object.__setattr__(self, name, _check('BoxObstacle', name, getattr(self, name),
+                                                  False))
+        for name in ('size_x', 'size_y', 'height'):
+            object.__setattr__(self, name, _check('BoxObstacle', name, getattr(self, name),
+                                                  True))
+
+
+@dataclass(frozen=True)
+class DiscObstacle:
+    """An upright cylinder standing on the ground (the paper's disk).
+
+    :param x: centre x (m).
+    :param y: centre y (m).
+    :param radius: radius (m), > 0.
+    :param height: height (m), > 0.
+    """
+
+    x: float
+    y: float
+    radius: float
+    height: float = DEFAULT_OBSTACLE_HEIGHT
+
+    def __post_init__(self):
+        for name in ('x', 'y'):
+            object.__setattr__(self, name, _check('DiscObstacle', name, getattr(self, name),
+                                                  False))
+        for name in ('radius', 'height'):
+            object.__setattr__(self, name, _check('DiscObstacle', name, getattr(self, name),
+                                                  True))
+
+
+def as_sim_obstacle(obstacle, height: float = DEFAULT_OBSTACLE_HEIGHT):
+    """Convert a planner-like obstacle to a BoxObstacle or DiscObstacle.
+
+    :param obstacle: a BoxObstacle, DiscObstacle or an object with their attributes (see the
+        module docstring).
+    :param height: height given to obstacles that do not carry one (m).
+    :return: BoxObstacle or DiscObstacle.
+    :raises ConfigError: if the object is neither a box nor a disc, or has bad values.
+    """
+    if isinstance(obstacle, (BoxObstacle, DiscObstacle)):
+        return obstacle
+    height = getattr(obstacle, 'height', height)
+    if hasattr(obstacle, 'radius'):
+        if hasattr(obstacle, 'center'):
+            x, y = obstacle.center[0], obstacle.center[1]
+        else:
+            x, y = obstacle.x, obstacle.y
+        return DiscObstacle(x, y, obstacle.radius, height)
+    if all(hasattr(obstacle, a) for a in ('x_min', 'y_min', 'x_max', 'y_max')):
+        return BoxObstacle(0.5 * (obstacle.x_min + obstacle.x_max),
+                           0.5 * (obstacle.y_min + obstacle.y_max),
+                           obstacle.x_max - obstacle.x_min, obstacle.y_max - obstacle.y_min,
+                           0.0, height)
+    if all(hasattr(obstacle, a) for a in ('x', 'y', 'size_x', 'size_y')):
+        return BoxObstacle(obstacle.x, obstacle.y, obstacle.size_x, obstacle.size_y,
+                           getattr(obstacle, 'yaw', 0.0), height)
+    raise ConfigError('obstacle %r is neither a disc (radius and x, y or center) nor a box '
+                      '(x, y, size_x, size_y or x_min, y_min, x_max, y_max)' % (obstacle,))
