@@ -19,3 +19,23 @@ class PlanningError(BipedPlannerError):
 
 class CommandError(BipedPlannerError, ValueError):
     """A walk command is malformed (NaN, out of range, unknown mode)."""
+
+
+class StartOutsideMapError(PlanningError):
+    """The start lies outside the map."""
+
+
+class GoalOutsideMapError(PlanningError):
+    """The goal lies outside the map."""
+
+
+class StartOccupiedError(PlanningError):
+    """The start lies in an obstacle or in its inflated margin."""
+
+
+class GoalOccupiedError(PlanningError):
+    """The goal lies in an obstacle or in its inflated margin."""
+
+
+class NoPathError(PlanningError):
+    """No collision-free path joins the start and the goal."""
