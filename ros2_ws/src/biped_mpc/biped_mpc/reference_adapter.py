@@ -1,0 +1,69 @@
+"""Turn the planner's reference window into the MPC's per-plane output references and bounds."""
+import numpy as np
+
+from biped_mpc.errors import InputError
+from biped_mpc.linear_model import (
+    N_OUTPUTS, N_PLANES, OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG, OUTPUT_ZMP)
+
+_REQUIRED = ('zmp', 'left_mass', 'right_mass', 'hip', 'zmp_min', 'zmp_max', 'left_landing_min',
+             'left_landing_max', 'right_landing_min', 'right_landing_max')
+
+
+def outputs_from_window(window) -> tuple:
+    """References and bounds of y = [left leg mass, right leg mass, ZMP] for both planes.
+
+    The window is used by duck typing (biped_planner.walking_reference.ReferenceWindow: arrays
+    of N samples). Sample it at the predicted times t + Ts, ..., t + Np Ts.
+
+    * y_ref: left_mass, right_mass and zmp of the window.
+    * ZMP bounds: zmp_min / zmp_max (the support polygon box, foot scaled by 0.9).
+    * Leg bounds (eq. SwingConstraints, the reachable rectangle of the landing): the planner's
+      landing box bounds the swing foot around its planned landing point; the leg mass is
+      midway between the foot and the hip, so the box of the leg mass is
+      (landing box + hip) / 2. It is applied at the touch-down sample of each swing in the
+      window (the last sample at which that leg's landing box is finite, followed by one where
+      it is not): during the rest of the swing the foot is far from its landing point by
+      design, so the landing box does not apply there. Every other leg bound is +-inf. A swing
+      still in progress at the end of the window gets its bound in a later cycle.
+
+    :param window: an object with the ReferenceWindow attributes (N samples)
+    :return: (y_ref, y_min, y_max), each of shape (2, N, 3) (m), planes x then y
+    :raises InputError: if an attribute is missing, has the wrong shape, a reference is not
+        finite or a bound is NaN
+    """
+    arrays = {}
+    for name in _REQUIRED:
+        if not hasattr(window, name):
+            raise InputError(f'the reference window has no attribute {name!r}')
+        arrays[name] = np.asarray(getattr(window, name), dtype=float)
+    n = arrays['zmp'].shape[0] if arrays['zmp'].ndim == 2 else -1
+    for name, array in arrays.items():
+        if array.shape != (n, N_PLANES) or n < 1:
+            raise InputError(f'window.{name} must have shape (N, 2) with the N of window.zmp, '
+                             f'got {array.shape}')
+    for name in ('zmp', 'left_mass', 'right_mass', 'hip'):
+        if not np.isfinite(arrays[name]).all():
+            raise InputError(f'window.{name} must be finite')
+    for name in ('zmp_min', 'zmp_max', 'left_landing_min', 'left_landing_max',
+                 'right_landing_min', 'right_landing_max'):
+        if np.isnan(arrays[name]).any():
+            raise InputError(f'window.{name} contains NaN')
+
+    y_ref = np.empty((N_PLANES, n, N_OUTPUTS))
+    y_ref[:, :, OUTPUT_LEFT_LEG] = arrays['left_mass'].T
+    y_ref[:, :, OUTPUT_RIGHT_LEG] = arrays['right_mass'].T
+    y_ref[:, :, OUTPUT_ZMP] = arrays['zmp'].T
+    y_min = np.full((N_PLANES, n, N_OUTPUTS), -np.inf)
+    y_max = np.full((N_PLANES, n, N_OUTPUTS), np.inf)
+    y_min[:, :, OUTPUT_ZMP] = arrays['zmp_min'].T
+    y_max[:, :, OUTPUT_ZMP] = arrays['zmp_max'].T
+    hip = arrays['hip']
+    for output, prefix in ((OUTPUT_LEFT_LEG, 'left'), (OUTPUT_RIGHT_LEG, 'right')):
+        lower, upper = arrays[prefix + '_landing_min'], arrays[prefix + '_landing_max']
+        swinging = np.isfinite(lower).all(axis=1) & np.isfinite(upper).all(axis=1)
+        touchdown = np.flatnonzero(swinging[:-1] & ~swinging[1:])
+        y_min[:, touchdown, output] = (0.5 * (lower[touchdown] + hip[touchdown])).T
+        y_max[:, touchdown, output] = (0.5 * (upper[touchdown] + hip[touchdown])).T
+    if not (y_min <= y_max).all():
+        raise InputError('the window has a lower bound above its upper bound')
+    return y_ref, y_min, y_max
