@@ -1,0 +1,193 @@
+"""The model itself as a simulated robot: the paper's MATLAB plant with pushes and noise."""
+from dataclasses import dataclass
+import math
+from typing import Optional
+
+import numpy as np
+
+from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.linear_model import (
+    LinearModel, N_INPUTS, N_OUTPUTS, N_PLANES, N_STATES, OUTPUT_ZMP)
+
+
+@dataclass(frozen=True)
+class PlantParams:
+    """Measurement noise of the model plant.
+
+    The paper adds "Gaussian noise (-0.05 m <= v_i <= 0.05 m)" to the three outputs. We read it
+    as zero-mean Gaussian noise with noise_bound = 3 standard deviations, clipped to
+    +-noise_bound so that every sample lies within the stated interval.
+
+    :param noise_std: standard deviation of the output noise (m), [0, 1]; 0 disables noise
+    :param noise_bound: clipping bound of the noise (m), (0, 10]
+    :param seed: seed of the noise generator, >= 0
+    """
+
+    noise_std: float = 0.0
+    noise_bound: float = 0.05
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.noise_std, (int, float)) or not math.isfinite(self.noise_std) \
+                or not 0.0 <= self.noise_std <= 1.0:
+            raise ConfigError(f'noise_std must be in [0, 1] (m), got {self.noise_std!r}')
+        if not isinstance(self.noise_bound, (int, float)) \
+                or not math.isfinite(self.noise_bound) or not 0.0 < self.noise_bound <= 10.0:
+            raise ConfigError(f'noise_bound must be in (0, 10] (m), got {self.noise_bound!r}')
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise ConfigError(f'seed must be an integer >= 0, got {self.seed!r}')
+
+    @classmethod
+    def paper_noise(cls, seed: int = 0) -> 'PlantParams':
+        """Noise within +-0.05 m: Gaussian with 3 sigma = 0.05 m, clipped at 0.05 m.
+
+        :param seed: seed of the noise generator
+        :return: the parameters
+        """
+        return cls(noise_std=0.05 / 3.0, noise_bound=0.05, seed=seed)
+
+
+@dataclass(frozen=True)
+class PlantMeasurement:
+    """What the plant reports after reset or a step, both planes (index 0 = x, 1 = y).
+
+    :param t: time of the sample (s)
+    :param outputs: measured outputs (left leg, right leg, ZMP) with noise, (2, 3) (m)
+    :param true_outputs: the outputs without noise, (2, 3) (m); the ZMP entry is the
+        fictitious ZMP
+    :param state: the true state, (2, 9)
+    :param zmp_fictitious: the point where the moment of gravity, inertia and the push
+        vanishes (Vukobratovic's fictitious ZMP), (2,) (m); it may lie outside the support
+        polygon
+    :param zmp_real: the centre of pressure: the fictitious ZMP clipped to the support polygon
+        set with set_support_polygon (equal to the fictitious one when none is set), (2,) (m)
+    """
+
+    t: float
+    outputs: np.ndarray
+    true_outputs: np.ndarray
+    state: np.ndarray
+    zmp_fictitious: np.ndarray
+    zmp_real: np.ndarray
+
+
+class ModelPlant:
+    """The continuous model integrated exactly with piecewise-constant jerks and push forces.
+
+    dX/dt = A X + B U + f F per plane, with F the horizontal force on the torso (N): the push
+    adds F / m_torso to the torso's acceleration while the commanded accelerations (the
+    states) stay as the jerks made them; the ground reaction is unchanged at the instant of
+    the push, so the ZMP (eq. zmp with the push's moment F z_t) equals C X, and the push moves
+    it only through the displaced masses and the controller's reaction. The ZMP the plant
+    reports is therefore the fictitious ZMP; the real one (centre of pressure) is its
+    projection on the support polygon. The discretisation for each distinct dt is computed
+    once and cached.
+
+    :param model: the continuous model to simulate (usually three_mass_model)
+    :param params: measurement noise
+    """
+
+    def __init__(self, model: LinearModel, params: PlantParams = PlantParams()) -> None:
+        if not isinstance(model, LinearModel):
+            raise ConfigError(f'model must be a LinearModel, got {type(model).__name__}')
+        self.model = model
+        self.params = params
+        self._discrete = {}
+        self._rng = np.random.default_rng(params.seed)
+        self._support_lower = np.full(N_PLANES, -np.inf)
+        self._support_upper = np.full(N_PLANES, np.inf)
+        self._c = model.c
+        self.reset(np.zeros((N_PLANES, N_STATES)))
+
+    def reset(self, state: np.ndarray, t: float = 0.0) -> PlantMeasurement:
+        """Place the robot in a state.
+
+        :param state: the true state per plane, shape (2, 9)
+        :param t: time of the state (s)
+        :return: the measurement at that state
+        :raises InputError: if the state has a wrong shape or is not finite
+        """
+        self._state = _checked('state', state, (N_PLANES, N_STATES)).copy()
+        if not isinstance(t, (int, float)) or not math.isfinite(t):
+            raise InputError(f't must be a finite number (s), got {t!r}')
+        self._t = float(t)
+        self._rng = np.random.default_rng(self.params.seed)
+        return self.measure()
+
+    def set_support_polygon(self, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Set the axis-aligned support polygon used to compute the real ZMP.
+
+        :param lower: (x_min, y_min) of the polygon (m)
+        :param upper: (x_max, y_max) of the polygon (m)
+        :raises InputError: for NaN values, wrong shapes or lower > upper
+        """
+        lower = np.asarray(lower, dtype=float)
+        upper = np.asarray(upper, dtype=float)
+        if lower.shape != (N_PLANES,) or upper.shape != (N_PLANES,) or \
+                not (lower <= upper).all():
+            raise InputError(f'support polygon needs lower <= upper, shapes (2,), got '
+                             f'{lower!r}, {upper!r}')
+        self._support_lower = lower.copy()
+        self._support_upper = upper.copy()
+
+    @property
+    def state(self) -> np.ndarray:
+        """The true state, shape (2, 9) (a copy)."""
+        return self._state.copy()
+
+    @property
+    def t(self) -> float:
+        """The plant's time (s)."""
+        return self._t
+
+    def step(self, jerk: np.ndarray, dt: float,
+             external_force: Optional[np.ndarray] = None) -> PlantMeasurement:
+        """Advance by dt with the jerks and the push held constant.
+
+        :param jerk: jerks per plane (left leg, torso, right leg), shape (2, 3) (m/s^3)
+        :param dt: duration (s), finite and > 0
+        :param external_force: horizontal force on the torso per plane (N), shape (2,);
+            None for no push
+        :return: the measurement at the end of the step
+        :raises InputError: for wrong shapes or non-finite values
+        """
+        u = _checked('jerk', jerk, (N_PLANES, N_INPUTS))
+        if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt <= 0.0:
+            raise InputError(f'dt must be a finite number > 0 (s), got {dt!r}')
+        discrete = self._discrete.get(dt)
+        if discrete is None:
+            discrete = self.model.discretize(dt)
+            self._discrete[dt] = discrete
+        state = self._state @ discrete.a.T + u @ discrete.b.T
+        if external_force is not None:
+            force = _checked('external_force', external_force, (N_PLANES,))
+            state += force[:, None] * discrete.force_input[None, :]
+        self._state = state
+        self._t += dt
+        return self.measure()
+
+    def measure(self) -> PlantMeasurement:
+        """The measurement at the current state (draws new noise).
+
+        :return: the measurement
+        """
+        true_outputs = self._state @ self._c.T
+        outputs = true_outputs
+        if self.params.noise_std > 0.0:
+            noise = self._rng.normal(0.0, self.params.noise_std, size=(N_PLANES, N_OUTPUTS))
+            outputs = true_outputs + np.clip(noise, -self.params.noise_bound,
+                                             self.params.noise_bound)
+        fictitious = true_outputs[:, OUTPUT_ZMP].copy()
+        real = np.clip(fictitious, self._support_lower, self._support_upper)
+        return PlantMeasurement(t=self._t, outputs=outputs, true_outputs=true_outputs,
+                                state=self._state.copy(), zmp_fictitious=fictitious,
+                                zmp_real=real)
+
+
+def _checked(name: str, value, shape: tuple) -> np.ndarray:
+    array = np.asarray(value, dtype=float)
+    if array.shape != shape:
+        raise InputError(f'{name} must have shape {shape}, got {array.shape}')
+    if not np.isfinite(array).all():
+        raise InputError(f'{name} must be finite, got {array.tolist()}')
+    return array
