@@ -7,8 +7,10 @@ import time
 from pathlib import Path
 from typing import Callable, List, Optional
 
+from builtin_interfaces.msg import Time
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
+from rosgraph_msgs.msg import Clock
 
 REPO = Path(__file__).resolve().parent.parent
 PYTHON = sys.executable
@@ -106,3 +108,20 @@ def new_context():
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=domain_id_for_worker())
     return context
+
+
+class SimClock:
+    """Publishes /clock in fixed increments and spins between them."""
+
+    def __init__(self, node, executor):
+        self.publisher = node.create_publisher(Clock, '/clock', 10)
+        self.executor = executor
+        self.t = 100.0
+
+    def advance(self, seconds: float, dt: float = 0.005) -> None:
+        for _ in range(int(round(seconds / dt))):
+            self.t += dt
+            sec = int(self.t)
+            self.publisher.publish(Clock(clock=Time(sec=sec, nanosec=int((self.t - sec) * 1e9))))
+            for _ in range(3):
+                self.executor.spin_once(timeout_sec=0.0)

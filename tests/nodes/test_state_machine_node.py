@@ -2,35 +2,16 @@
 import math
 
 from biped_msgs.msg import CommandStatus, FootstepPlan, Footstep, WalkCommand, WalkingState
-from builtin_interfaces.msg import Time
 from nav_msgs.msg import Odometry
 import pytest
 import rclpy
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile
-from rosgraph_msgs.msg import Clock
 
 from biped_planner.nodes.state_machine import StateMachineNode
-from ros_harness import Collector, spin_until, wait_for_subscribers
+from ros_harness import Collector, SimClock, spin_until, wait_for_subscribers
 
 TIMING = dict(initialize_duration=0.5, single_support=0.3, double_support=0.1)
-
-
-class SimClock:
-    """Publishes /clock in fixed increments and spins between them."""
-
-    def __init__(self, node, executor):
-        self.publisher = node.create_publisher(Clock, '/clock', 10)
-        self.executor = executor
-        self.t = 100.0
-
-    def advance(self, seconds: float, dt: float = 0.005) -> None:
-        for _ in range(int(round(seconds / dt))):
-            self.t += dt
-            sec = int(self.t)
-            self.publisher.publish(Clock(clock=Time(sec=sec, nanosec=int((self.t - sec) * 1e9))))
-            for _ in range(3):
-                self.executor.spin_once(timeout_sec=0.0)
 
 
 @pytest.fixture

@@ -102,8 +102,11 @@ class WalkingStateMachine:
 
     A walk is Initialize (shift the COM over the first support foot), then steps: a step is a
     single support on one foot (the other swings) followed by a double support, after which the
-    feet swap roles. A walk ends in Idle at the end of a double support when a stop was requested
-    or the footstep plan has no step left; Fallen is entered from any phase and left by reset().
+    feet swap roles. A walk ends in Idle at the end of a double support when the footstep plan
+    has no step left, or when a stop was requested and no planner drives the walk; a planner
+    answers a stop with a plan that ends after the current step and one closing step (feet side
+    by side), so a planned walk always ends on its plan. Fallen is entered from any phase and
+    left by reset().
 
     :param params: timing and first support foot
     """
@@ -114,6 +117,7 @@ class WalkingStateMachine:
         self._status = WalkingStatus()
         self._timing = _Timing(self.params.single_support, self.params.double_support)
         self._steps_in_plan: Optional[int] = None
+        self._plan_driven = False
         self._first_support = Support(self.params.first_support)
 
     @property
@@ -151,16 +155,19 @@ class WalkingStateMachine:
             self._timing.single_support + self._timing.double_support)
         self.set_timing(step_time * ratio, step_time * (1.0 - ratio))
 
-    def set_plan(self, steps: Optional[int], first_support: Optional[Support] = None) -> None:
+    def set_plan(self, steps: Optional[int], first_support: Optional[Support] = None,
+                 planned: bool = False) -> None:
         """Set how many steps the current footstep plan has (None: walk until stopped).
 
         :param steps: number of swing steps in the plan, counted from the start of the walk
         :param first_support: first support foot of the plan (applies at the next start)
+        :param planned: a planner drives the walk: a stop ends it on the plan's closing step
         :raises CommandError: if steps is negative
         """
         if steps is not None and steps < 0:
             raise CommandError(f'steps must be >= 0 or None, got {steps}')
         self._steps_in_plan = steps
+        self._plan_driven = planned
         if first_support is not None:
             self._first_support = Support(first_support)
 
@@ -233,7 +240,7 @@ class WalkingStateMachine:
                                support=Support.BOTH)
         # End of a double support: one step done.
         steps = status.step_index + 1
-        if status.stop_requested:
+        if status.stop_requested and not self._plan_driven:
             return self._enter(Phase.IDLE, t, 'stopped after the step', step_index=steps)
         if self._steps_in_plan is not None and steps >= self._steps_in_plan:
             return self._enter(Phase.IDLE, t, 'plan finished', step_index=steps)

@@ -1,11 +1,15 @@
 """The walking state machine node: walk commands and plans in, walking state out.
 
 Subscribes: walk_command (biped_msgs/WalkCommand), footstep_plan (biped_msgs/FootstepPlan,
-transient local), odom (nav_msgs/Odometry, for fall detection).
+transient local), odom (nav_msgs/Odometry, for fall detection), cmd_vel (geometry_msgs/Twist)
+and goal_pose (geometry_msgs/PoseStamped), which start a walk from Idle.
 Publishes: walking_state (biped_msgs/WalkingState) on every transition and at publish_rate,
 walk_command_status (biped_msgs/CommandStatus) for every command received.
 """
+import math
+
 from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkCommandMsg, WalkingState
+from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -40,6 +44,9 @@ LIMIT_SPECS = {
 }
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
+# Subscribers keep more than the latest: two plans in a burst must both be seen.
+LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                        reliability=ReliabilityPolicy.RELIABLE)
 
 
 class StateMachineNode(Node):
@@ -64,8 +71,10 @@ class StateMachineNode(Node):
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
         self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
         self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
-        self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED)
+        self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(Odometry, 'odom', self._on_odometry, 10)
+        self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
+        self.create_subscription(PoseStamped, 'goal_pose', self._on_goal, 10)
         update_period = 1.0 / max(1.0, self.get_parameter('update_rate').value)
         self._publish_period = 1.0 / max(0.1, self.get_parameter('publish_rate').value)
         self._last_publish = None
@@ -128,21 +137,40 @@ class StateMachineNode(Node):
         now = self._now()
         transitions = self._machine.update(now)
         if msg.status != FootstepPlan.STATUS_OK:
-            self.get_logger().warning(f'plan {msg.plan_id} failed ({msg.error_code}): '
-                                      f'{msg.error_msg}; stopping')
-            transitions += self._machine.request_stop(now)
+            # Only a walk still waiting for its plan stops; a running walk keeps its plan.
+            if self._machine.status.phase == Phase.INITIALIZE:
+                self.get_logger().warning(f'plan failed ({msg.error_code}): {msg.error_msg}; '
+                                          'back to Idle')
+                transitions += self._machine.request_stop(now)
         else:
             self._plan_id = msg.plan_id
             steps = None if msg.continuous else max(0, len(msg.footsteps) - 2)
             first = Support(msg.footsteps[0].side) if msg.footsteps and \
                 msg.footsteps[0].side in (0, 1) else None
             try:
-                self._machine.set_plan(steps, first)
+                self._machine.set_plan(steps, first, planned=True)
                 if msg.single_support > 0.0 and msg.double_support > 0.0:
                     self._machine.set_timing(msg.single_support, msg.double_support)
             except CommandError as error:
                 self.get_logger().warning(f'plan {msg.plan_id} ignored: {error}')
         self._publish_transitions(transitions, now)
+
+    def _on_goal(self, msg: PoseStamped) -> None:
+        """A goal pose (the RViz convention) starts a walk; the planner plans it, and a failed
+        plan sends the walk back to Idle during Initialize."""
+        p = msg.pose.position
+        if all(math.isfinite(v) for v in (p.x, p.y)):
+            self._start_from_idle()
+
+    def _on_cmd_vel(self, msg: Twist) -> None:
+        """Teleop: a velocity command starts a walk from Idle (the planner makes the steps)."""
+        if all(math.isfinite(v) for v in (msg.linear.x, msg.linear.y, msg.angular.z)):
+            self._start_from_idle()
+
+    def _start_from_idle(self) -> None:
+        if self._machine.status.phase == Phase.IDLE:
+            now = self._now()
+            self._publish_transitions(self._machine.request_start(now), now)
 
     def _on_odometry(self, msg: Odometry) -> None:
         if not self.get_parameter('fall_detection').value:
