@@ -20,6 +20,8 @@ setup(
     entry_points={
         'console_scripts': [
             'state_machine = biped_planner.nodes.state_machine:main',
+            'footstep_planner = biped_planner.nodes.footstep_planner:main',
+            'reference_generator = biped_planner.nodes.reference_generator:main',
         ],
     },
 )

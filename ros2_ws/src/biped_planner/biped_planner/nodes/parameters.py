@@ -35,7 +35,8 @@ def _descriptor(name: str, value, description: str, bounds) -> ParameterDescript
 
 def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
                                  prefix: str = '',
-                                 on_change: Optional[Callable[[T], None]] = None) -> T:
+                                 on_change: Optional[Callable[[T], None]] = None,
+                                 fixed: Optional[dict] = None) -> T:
     """Declare one parameter per dataclass field and return the dataclass built from them.
 
     :param node: the node that owns the parameters
@@ -44,11 +45,13 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
     :param prefix: parameter name prefix, e.g. 'timing.' (empty: the field names)
     :param on_change: called with the new dataclass after an accepted live change; None makes
         every live change of these parameters rejected (the node cannot honour it)
+    :param fixed: values of fields that are not parameters (e.g. nested dataclasses)
     :return: the dataclass built from the declared values
     :raises ValueError: when the values given at start-up are refused by the dataclass
     """
     cls: Type[T] = type(defaults)
-    names = [f.name for f in dataclasses.fields(cls)]
+    fixed = dict(fixed or {})
+    names = [f.name for f in dataclasses.fields(cls) if f.name not in fixed]
     missing = [n for n in names if n not in specs]
     if missing:
         raise KeyError(f'no parameter description for {cls.__name__} fields {missing}')
@@ -61,7 +64,7 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
         description, bounds = specs[name]
         node.declare_parameter(prefix + name, value,
                                _descriptor(prefix + name, value, description, bounds))
-    current = _build(cls, node, names, prefix, {})
+    current = _build(cls, node, names, prefix, {}, fixed)
 
     def on_set(parameters) -> SetParametersResult:
         changes = {p.name[len(prefix):]: p.value for p in parameters
@@ -72,7 +75,7 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
             return SetParametersResult(
                 successful=False, reason=f'{sorted(changes)} cannot change while running')
         try:
-            updated = _build(cls, node, names, prefix, changes)
+            updated = _build(cls, node, names, prefix, changes, fixed)
         except (ValueError, TypeError) as error:
             return SetParametersResult(successful=False, reason=str(error))
         on_change(updated)
@@ -82,8 +85,8 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
     return current
 
 
-def _build(cls, node: Node, names, prefix: str, overrides: dict):
-    values = {}
+def _build(cls, node: Node, names, prefix: str, overrides: dict, fixed: dict):
+    values = dict(fixed)
     for name in names:
         value = overrides.get(name, node.get_parameter(prefix + name).value)
         if isinstance(value, list):

@@ -1,0 +1,117 @@
+"""The reference generator node: footstep plan + walking state in, MPC references out.
+
+Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_state
+(biped_msgs/WalkingState: the walk's start time and phase), odom (nav_msgs/Odometry: where to
+stand before the first walk).
+Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
+samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds.
+"""
+from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkingState
+from nav_msgs.msg import Odometry
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from biped_planner.errors import BipedPlannerError
+from biped_planner.nodes.conversions import (footsteps_from_msgs, pose2d_from_pose,
+                                             reference_trajectory_msg)
+from biped_planner.nodes.node_runner import run_node
+from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.plan_session import feet_beside
+from biped_planner.reference_session import ReferenceSession
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import ReferenceParams
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
+# Subscribers keep more than the latest: two plans in a burst must both be seen.
+LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                        reliability=ReliabilityPolicy.RELIABLE)
+REFERENCE_SPECS = {
+    'com_height': ('LIPM height of the hip, omega = sqrt(g / z) (m)', (0.06, 5.0)),
+    'swing_height': ('highest point of the swing foot (m)', (0.0, 0.5)),
+    'foot_length': ('sole length (m)', (0.01, 1.0)),
+    'foot_width': ('sole width (m)', (0.01, 1.0)),
+    'support_scale': ('scale of the foot in the ZMP bounds (paper: 0.9)', (0.01, 1.0)),
+    'gravity': ('gravitational acceleration (m/s^2)', (0.1, 30.0)),
+    'landing_half_length': ('half size along x of the swing landing box (m)', (0.0, 2.0)),
+    'landing_half_width': ('half size along y of the swing landing box (m)', (0.0, 2.0)),
+    'initial_shift_time': ('COM shift before the first step; = the state machine\'s '
+                           'initialize_duration (s)', (0.1, 10.0)),
+    'final_settle_time': ('final double support that brings the hip to rest (s)', (0.1, 10.0)),
+}
+WALKING_PHASES = (WalkingState.INITIALIZE, WalkingState.SINGLE_SUPPORT,
+                  WalkingState.DOUBLE_SUPPORT)
+
+
+class ReferenceGeneratorNode(Node):
+    """Thin adapter over biped_planner.reference_session.ReferenceSession."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('reference_generator', **kwargs)
+        params = declare_dataclass_parameters(self, ReferenceParams(), REFERENCE_SPECS)
+        self.declare_parameter('horizon', 90)
+        self.declare_parameter('dt', 0.02)
+        self.declare_parameter('rate', 50.0)
+        self.declare_parameter('stance_width', 0.2)
+        self._horizon = max(2, int(self.get_parameter('horizon').value))
+        self._dt = float(self.get_parameter('dt').value)
+        self._session = ReferenceSession(params)
+        self._standing = None
+        self._phase = None
+        self._pub = self.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+        self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
+        self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
+        self.create_subscription(Odometry, 'odom', self._on_odom, 10)
+        self.create_timer(1.0 / float(self.get_parameter('rate').value), self._on_timer)
+        self.get_logger().info(f'reference generator ready ({self._horizon} samples of '
+                               f'{self._dt} s)')
+
+    def _now(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    def _on_plan(self, msg: FootstepPlan) -> None:
+        if msg.status != FootstepPlan.STATUS_OK:
+            return
+        try:
+            timing = StepTiming(msg.single_support, msg.double_support)
+            done = self._session.set_plan(msg.plan_id, footsteps_from_msgs(msg.footsteps),
+                                          timing, self._now())
+        except (BipedPlannerError, ValueError) as error:
+            self.get_logger().error(f'plan {msg.plan_id} not used: {error}')
+            return
+        self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): {done}')
+
+    def _on_state(self, msg: WalkingState) -> None:
+        if msg.phase in WALKING_PHASES:
+            if self._session.start_walk(msg.walk_start_time) and self._phase not in \
+                    WALKING_PHASES:
+                self.get_logger().info(f'walk from t={msg.walk_start_time:.3f} on plan '
+                                       f'{self._session.plan_id}')
+        elif self._phase in WALKING_PHASES:
+            self._session.end_walk()
+        self._phase = msg.phase
+
+    def _on_odom(self, msg: Odometry) -> None:
+        if self._session.reference is not None:
+            return
+        try:
+            self._standing = feet_beside(pose2d_from_pose(msg.pose.pose),
+                                         self.get_parameter('stance_width').value)
+        except BipedPlannerError:
+            pass
+
+    def _on_timer(self) -> None:
+        now = self.get_clock().now()
+        window = self._session.window(now.nanoseconds * 1e-9, self._horizon, self._dt,
+                                      self._standing)
+        if window is not None:
+            self._pub.publish(reference_trajectory_msg(window, self._session.plan_id, self._dt,
+                                                       now.to_msg()))
+
+
+def main(args=None) -> None:
+    run_node(ReferenceGeneratorNode, args)
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,174 @@
+"""The footstep plan a walking robot follows, kept up to date as commands arrive.
+
+Three ways to walk (the paper's "Dynamic Planner" inputs): to a goal around obstacles (A* path,
+then footsteps), by omnidirectional step commands (teleop, the paper's X, Y, alpha), and in place
+(a zero command). Teleop plans are continuous: they are kept `lookahead` steps ahead of the step
+the robot is taking, so a new command changes only steps that have not started, and the reference
+can be extended smoothly. A stop replaces everything after the current step by one closing step
+that puts the feet side by side.
+
+Step indices are those of the walking state machine: during single support of step k (0-based),
+the swing foot is moving to footsteps[k + 2].
+"""
+from dataclasses import dataclass
+import enum
+import math
+from typing import List, Optional, Tuple
+
+from biped_planner.astar import AStarPlanner
+from biped_planner.errors import ConfigError
+from biped_planner.footstep_planner import FootstepPlanner
+from biped_planner.footsteps import Footstep, LEFT, other_side, RIGHT
+from biped_planner.omnidirectional_stepper import (OmnidirectionalStepper, StepCommand,
+                                                   StepperParams)
+from biped_planner.pose2d import Pose2D
+
+
+class PlanMode(enum.IntEnum):
+    NONE = 0
+    GOTO = 1
+    TELEOP = 2
+
+
+@dataclass(frozen=True)
+class PlanUpdate:
+    """A plan to publish.
+
+    :param plan_id: increases with every new walk's plan; a stop or a teleop extension keeps it
+    :param footsteps: the full footstep list (initial feet, then landings)
+    :param continuous: more steps will follow (teleop); False: the plan ends standing
+    :param path: (K, 2) path the footsteps follow (empty for teleop)
+    """
+
+    plan_id: int
+    footsteps: Tuple[Footstep, ...]
+    continuous: bool
+    path: Tuple[Tuple[float, float], ...] = ()
+
+
+def feet_beside(body: Pose2D, step_width: float) -> Tuple[Footstep, Footstep]:
+    """:return: left and right soles side by side around a body pose."""
+    half = 0.5 * step_width
+    cos_yaw, sin_yaw = math.cos(body.yaw), math.sin(body.yaw)
+    return (Footstep(LEFT, body.x - sin_yaw * half, body.y + cos_yaw * half, body.yaw),
+            Footstep(RIGHT, body.x + sin_yaw * half, body.y - cos_yaw * half, body.yaw))
+
+
+def closing_footstep(stance: Footstep, step_width: float) -> Footstep:
+    """:return: the other foot placed beside the stance foot, with its heading."""
+    sign = 1.0 if stance.side == RIGHT else -1.0  # the left foot goes to the stance's left
+    cos_yaw, sin_yaw = math.cos(stance.yaw), math.sin(stance.yaw)
+    return Footstep(other_side(stance.side), stance.x - sign * sin_yaw * step_width,
+                    stance.y + sign * cos_yaw * step_width, stance.yaw)
+
+
+class PlanSession:
+    """Keeps the current footstep plan for goto, teleop and stop commands."""
+
+    def __init__(self, planner: FootstepPlanner, stepper_params: StepperParams,
+                 lookahead: int = 2, first_swing: int = LEFT) -> None:
+        """:param lookahead: teleop steps planned beyond the one being taken, [1, 10]."""
+        if not 1 <= lookahead <= 10:
+            raise ConfigError(f'lookahead must be in [1, 10], got {lookahead}')
+        self._planner = planner
+        self._stepper_params = stepper_params
+        self._lookahead = lookahead
+        self._first_swing = first_swing
+        self._mode = PlanMode.NONE
+        self._plan_id = 0
+        self._footsteps: List[Footstep] = []
+        self._stepper: Optional[OmnidirectionalStepper] = None
+        self._command = StepCommand()
+        self._step_time = 0.5
+        self._continuous = False
+        self._path: Tuple[Tuple[float, float], ...] = ()
+
+    @property
+    def mode(self) -> PlanMode:
+        return self._mode
+
+    @property
+    def plan_id(self) -> int:
+        return self._plan_id
+
+    def _update(self) -> PlanUpdate:
+        return PlanUpdate(self._plan_id, tuple(self._footsteps), self._continuous, self._path)
+
+    def goto(self, astar: AStarPlanner, start: Pose2D, goal: Pose2D) -> PlanUpdate:
+        """Plan a new walk to the goal.
+
+        :raises PlanningError: (a subclass) when no plan exists; the session is unchanged
+        """
+        plan = self._planner.plan_on_map(astar, start, goal)
+        self._plan_id += 1
+        self._mode = PlanMode.GOTO
+        self._footsteps = list(plan.footsteps)
+        self._continuous = False
+        self._path = tuple((float(x), float(y)) for x, y in plan.path)
+        self._stepper = None
+        return self._update()
+
+    def teleop(self, command: StepCommand, step_time: float, start: Pose2D,
+               step_index: int = 0) -> PlanUpdate:
+        """Walk by step commands: start a continuous plan, or change the command of one.
+
+        The new command applies to the steps appended from now on.
+        """
+        self._command = command
+        self._step_time = step_time
+        if self._mode != PlanMode.TELEOP or not self._continuous:
+            self._plan_id += 1
+            self._mode = PlanMode.TELEOP
+            self._continuous = True
+            self._path = ()
+            self._stepper = OmnidirectionalStepper(start, self._stepper_params,
+                                                   self._first_swing)
+            self._footsteps = self._stepper.footsteps
+            step_index = 0
+        self._fill_to(step_index)
+        return self._update()
+
+    def on_step(self, step_index: int) -> Optional[PlanUpdate]:
+        """The robot started step step_index: keep a teleop plan far enough ahead.
+
+        :return: the extended plan, or None if nothing changed
+        """
+        if self._mode != PlanMode.TELEOP or not self._continuous:
+            return None
+        count = len(self._footsteps)
+        self._fill_to(step_index)
+        return self._update() if len(self._footsteps) != count else None
+
+    def _fill_to(self, step_index: int) -> None:
+        needed = step_index + 3 + self._lookahead
+        while len(self._footsteps) < needed:
+            self._stepper.next_footstep(self._command, self._step_time)
+            self._footsteps = self._stepper.footsteps
+
+    def stop(self, step_index: int, walking: bool) -> Optional[PlanUpdate]:
+        """Finish the step being taken, then one closing step with the feet side by side.
+
+        :param step_index: the step being taken (single or double support of it)
+        :param walking: whether the robot is walking; standing robots need no plan change
+        :return: the shortened plan, or None when there is nothing to stop
+        """
+        if self._mode == PlanMode.NONE or not self._footsteps:
+            return None
+        self._continuous = False
+        if not walking:
+            self._mode = PlanMode.NONE
+            return None
+        keep = min(len(self._footsteps), step_index + 3)
+        kept = self._footsteps[:keep]
+        last = kept[-1]
+        width = self._stepper_params.step_width if self._mode == PlanMode.TELEOP else \
+            self._planner.params.step_width
+        already_closed = len(self._footsteps) == keep and self._mode == PlanMode.GOTO
+        self._footsteps = kept if already_closed else kept + [closing_footstep(last, width)]
+        self._mode = PlanMode.NONE
+        return self._update()
+
+    def walk_finished(self) -> None:
+        """The robot stands again: the next command starts a new plan."""
+        self._mode = PlanMode.NONE
+        self._continuous = False

@@ -1,0 +1,109 @@
+"""The walking reference of the current walk, kept consistent with plans and the state machine.
+
+The walking state machine owns the timeline: a walk starts (Initialize) at walk_start, and its
+reference is the WalkingReference of the walk's footstep plan with t_start = walk_start, so the
+reference's initial shift, single and double supports line up with the state machine's phases
+(given the same durations). A plan that changes while walking (teleop extension, a stop's closing
+step) is spliced in with WalkingReference.extend from its first changed footstep. Between walks
+the last reference holds its final standing pose.
+"""
+from dataclasses import dataclass
+from typing import Optional, Sequence, Tuple
+
+from biped_planner.errors import ConfigError
+from biped_planner.footsteps import Footstep
+from biped_planner.standing_reference import standing_window
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import ReferenceParams, ReferenceWindow, WalkingReference
+
+
+@dataclass(frozen=True)
+class _Plan:
+    plan_id: int
+    footsteps: Tuple[Footstep, ...]
+    timing: StepTiming
+
+
+class ReferenceSession:
+    """Builds and updates the reference of the current walk."""
+
+    def __init__(self, params: ReferenceParams) -> None:
+        self._params = params
+        self._plan: Optional[_Plan] = None
+        self._reference: Optional[WalkingReference] = None
+        self._reference_plan_id: Optional[int] = None
+        self._walk_start: Optional[float] = None
+        self._last_walked_plan_id: Optional[int] = None
+
+    @property
+    def reference(self) -> Optional[WalkingReference]:
+        return self._reference
+
+    @property
+    def plan_id(self) -> int:
+        return self._reference_plan_id or 0
+
+    def set_plan(self, plan_id: int, footsteps: Sequence[Footstep], timing: StepTiming,
+                 t_now: float) -> str:
+        """A footstep plan arrived.
+
+        :return: what was done ('stored', 'built', 'extended', 'unchanged')
+        :raises ConfigError: when the plan cannot be used (malformed, or it changes steps that
+            have already started); the current reference is kept
+        """
+        self._plan = _Plan(plan_id, tuple(footsteps), timing)
+        if self._walk_start is not None and self._reference_plan_id is None:
+            self._build()
+            return 'built'
+        if self._walk_start is not None and plan_id == self._reference_plan_id:
+            return self._splice(self._plan.footsteps, timing, t_now)
+        return 'stored'
+
+    def start_walk(self, walk_start: float) -> bool:
+        """The state machine started a walk at walk_start (idempotent).
+
+        :return: whether a reference was built for it (False: waiting for its plan)
+        """
+        if walk_start == self._walk_start:
+            return self._reference_plan_id is not None
+        self._walk_start = walk_start
+        self._reference_plan_id = None
+        if self._plan is not None and self._plan.plan_id != self._last_walked_plan_id:
+            self._build()
+            return True
+        return False
+
+    def end_walk(self) -> None:
+        """The robot stands again; the reference keeps holding its final pose."""
+        self._walk_start = None
+
+    def window(self, t: float, n: int, dt: float,
+               standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:
+        """References for n samples from t: the walk's, or standing on standing_feet.
+
+        :return: the window, or None when there is neither a reference nor standing feet
+        """
+        if self._reference is not None:
+            return self._reference.sample(t, n, dt)
+        if standing_feet is None:
+            return None
+        return standing_window(*standing_feet, self._params, t, n, dt)
+
+    def _build(self) -> None:
+        plan = self._plan
+        self._reference = WalkingReference(plan.footsteps, plan.timing, self._params,
+                                           t_start=self._walk_start)
+        self._reference_plan_id = plan.plan_id
+        self._last_walked_plan_id = plan.plan_id
+
+    def _splice(self, footsteps: Tuple[Footstep, ...], timing: StepTiming, t_now: float) -> str:
+        old = self._reference.footsteps
+        first_change = next((i for i, (a, b) in enumerate(zip(old, footsteps)) if a != b),
+                            min(len(old), len(footsteps)))
+        if first_change == len(old) == len(footsteps):
+            return 'unchanged'
+        if first_change < 2:
+            raise ConfigError('a plan update may not move the initial feet')
+        self._reference = self._reference.extend(footsteps[first_change:], t_now, timing,
+                                                 replace_from=first_change)
+        return 'extended'
