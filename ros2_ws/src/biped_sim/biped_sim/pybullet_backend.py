@@ -47,6 +47,9 @@ POSITION_CONTROL = 'position'
 _SPAWN_CLEARANCE = 5e-4  # m between the lowest sole and the ground at reset
 
 
+MAX_SHAPES_PER_BODY = 16  # createVisualShapeArray segfaults with more (PyBullet 3.2.7)
+
+
 @dataclass(frozen=True)
 class PyBulletConfig:
     """Parameters of the PyBullet backend.
@@ -631,8 +634,8 @@ class PyBulletBackend(SimulatorBackend):
     def add_terrain(self, terrain: Terrain, colour_bins: int = 8) -> list:
         """Build the tiles of a terrain as static boxes, coloured by height.
 
-        Tiles are grouped by height into colour_bins static bodies (one compound collision
-        shape each), blue for the lowest to red for the highest. Later resets stand the robot
+        Tiles are grouped by height into colour_bins colours, blue for the lowest to red for the
+        highest, as static bodies of at most MAX_SHAPES_PER_BODY tiles (one compound shape each). Later resets stand the robot
         on the terrain.
 
         :param terrain: the generated terrain.
@@ -655,9 +658,11 @@ class PyBulletBackend(SimulatorBackend):
                 continue
             level = (b + 0.5) / colour_bins
             colour = [level, 0.3, 1.0 - level, 1.0]
-            half_extents = [[half_side, half_side, 0.5 * heights[k]] for k in members]
-            frames = [[centres[k, 0], centres[k, 1], 0.5 * heights[k]] for k in members]
-            ids.append(self._static_compound(half_extents, frames, colour))
+            # createVisualShapeArray crashes PyBullet 3.2.7 beyond 16 shapes: bodies of 16.
+            for chunk in np.array_split(members, -(-members.size // MAX_SHAPES_PER_BODY)):
+                half_extents = [[half_side, half_side, 0.5 * heights[k]] for k in chunk]
+                frames = [[centres[k, 0], centres[k, 1], 0.5 * heights[k]] for k in chunk]
+                ids.append(self._static_compound(half_extents, frames, colour))
         self._terrain = terrain
         self._scenery.extend(ids)
         return ids

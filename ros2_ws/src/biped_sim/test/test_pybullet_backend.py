@@ -13,7 +13,7 @@ from biped_sim.camera_view import CameraView
 from biped_sim.errors import ConfigError, RobotModelError
 from biped_sim.external_push import ExternalPush
 from biped_sim.obstacles import BoxObstacle, DiscObstacle
-from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.pybullet_backend import MAX_SHAPES_PER_BODY, PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain import generate_terrain, TerrainParams
 
@@ -334,3 +334,18 @@ def test_bad_config_raises(kwargs, field):
 def test_bad_camera_view_raises(kwargs, field):
     with pytest.raises(ConfigError, match=field):
         CameraView(**kwargs)
+
+
+@pytest.mark.parametrize('tile_area', [0.01, 0.04, 0.0625])
+def test_the_papers_4m_terrains_build_and_the_robot_stands_on_them(description, tile_area):
+    # 400 to 1600 tiles: more than PyBullet takes in one visual shape array
+    terrain = generate_terrain(TerrainParams(tile_area=tile_area, side_length=4.0,
+                                             origin=(-2.0, -2.0), seed=2))
+    with PyBulletBackend(description) as sim:
+        ids = sim.add_terrain(terrain)
+        assert len(ids) >= terrain.heights.size / MAX_SHAPES_PER_BODY
+        readings = sim.reset()
+        for _ in range(25):
+            readings = sim.step(description.nominal_leg_positions())
+        soles = min(readings.left_sole[2], readings.right_sole[2])
+        assert terrain.params.min_height - 0.005 < soles < terrain.params.max_height + 0.005
