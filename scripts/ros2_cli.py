@@ -249,7 +249,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     import rclpy
-    rclpy.init()
+    from rclpy.signals import SignalHandlerOptions
+    # Python's own signal behaviour: Ctrl-C raises KeyboardInterrupt, SIGTERM ends the process
+    # (rclpy's handler would invalidate the context under a running call).
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     node = rclpy.create_node(f'ros2_cli_{int(time.time() * 1000) % 100000}')
     try:
         return args.run(node, args)
@@ -258,6 +261,8 @@ def main(argv=None) -> int:
         return 2
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:  # the reader of our output went away (e.g. `| head`)
+        return 0
     finally:
         node.destroy_node()
         rclpy.try_shutdown()

@@ -20,7 +20,7 @@ setup(
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
-
+            'simulator = biped_sim.nodes.simulator:main',
         ],
     },
 )

@@ -103,3 +103,32 @@ def as_sim_obstacle(obstacle, height: float = DEFAULT_OBSTACLE_HEIGHT):
                            getattr(obstacle, 'yaw', 0.0), height)
     raise ConfigError('obstacle %r is neither a disc (radius and x, y or center) nor a box '
                       '(x, y, size_x, size_y or x_min, y_min, x_max, y_max)' % (obstacle,))
+
+
+def boxes_from_occupied_cells(occupied, resolution: float, origin: tuple,
+                              height: float = DEFAULT_OBSTACLE_HEIGHT) -> list:
+    """Boxes covering the occupied cells of a grid, one per horizontal run of cells in a row.
+
+    :param occupied: (rows, cols) boolean array, row = y index (as nav_msgs/OccupancyGrid)
+    :param resolution: cell side (m), > 0
+    :param origin: world (x, y) of the corner of cell (0, 0) (m)
+    :param height: box height (m)
+    :return: list of BoxObstacle
+    """
+    resolution = _check('grid', 'resolution', resolution, True)
+    boxes = []
+    for row, cells in enumerate(occupied):
+        col = 0
+        width = len(cells)
+        while col < width:
+            if not cells[col]:
+                col += 1
+                continue
+            start = col
+            while col < width and cells[col]:
+                col += 1
+            boxes.append(BoxObstacle(
+                x=origin[0] + 0.5 * (start + col) * resolution,
+                y=origin[1] + (row + 0.5) * resolution,
+                size_x=(col - start) * resolution, size_y=resolution, height=height))
+    return boxes

@@ -1,0 +1,261 @@
+"""The simulator node: joint setpoints in; clock, joint states, IMU, wrenches, odometry out.
+
+Subscribes: joint_commands (sensor_msgs/JointState: setpoints of some or all joints, stamped
+with the sensor time they answer), map (nav_msgs/OccupancyGrid, transient local: obstacles).
+Publishes every control period: /clock (rosgraph_msgs/Clock), joint_states
+(sensor_msgs/JointState), imu (sensor_msgs/Imu), odom (nav_msgs/Odometry, ground truth pelvis),
+left_foot_wrench / right_foot_wrench (geometry_msgs/WrenchStamped, ankle F/T sensors),
+zmp (geometry_msgs/PointStamped, measured from the F/T sensors), com (PointStamped, ground truth).
+Services: push (biped_msgs/Push), reset (std_srvs/Trigger), set_terrain (biped_msgs/SetTerrain).
+
+Lockstep mode (default): while a controller publishes joint_commands, physics advances one
+control period only when the command answering the last sensor time has arrived, so a run is
+deterministic and as fast as the graph allows; with no controller (or after lockstep_timeout
+of wall time) it advances in real time with the last setpoints. Real-time mode (lockstep false)
+always advances at real_time_factor, for watching in the GUI.
+"""
+import math
+import time
+
+from biped_msgs.srv import Push, SetTerrain
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import PointStamped, WrenchStamped
+from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry
+import numpy as np
+from rclpy.clock import Clock as WallClock, ClockType
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, JointState
+from std_srvs.srv import Trigger
+
+from biped_planner.nodes.node_runner import run_node
+from biped_sim.errors import BipedSimError
+from biped_sim.external_push import ExternalPush
+from biped_sim.nodes.conversions import (imu_msg, joint_state_msg, odometry_msg, point_msg,
+                                         setpoints_from_joint_state, wrench_msg)
+from biped_sim.obstacles import boxes_from_occupied_cells
+from biped_sim.robot_description import coman_like
+from biped_sim.terrain import generate_terrain, TerrainParams
+
+LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                        reliability=ReliabilityPolicy.RELIABLE)
+MAX_PUSH_FORCE = 5000.0  # N: beyond any push the robot could feel; larger requests are errors
+
+
+def stamp_of(t: float) -> Time:
+    sec = int(math.floor(t))
+    return Time(sec=sec, nanosec=int(round((t - sec) * 1e9)) % 1_000_000_000)
+
+
+def seconds_of(stamp) -> float:
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
+class SimulatorNode(Node):
+    """Thin adapter over a biped_sim SimulatorBackend (PyBullet or the model plant)."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('simulator', **kwargs)
+        for name, default in (('backend', 'pybullet'), ('gui', False), ('control_mode', 'torque'),
+                              ('control_period', 0.02), ('physics_step', 0.001),
+                              ('lockstep', True), ('lockstep_timeout', 0.5),
+                              ('real_time_factor', 1.0), ('start_x', 0.0), ('start_y', 0.0),
+                              ('start_yaw', 0.0), ('frame_id', 'map')):
+            self.declare_parameter(name, default)
+        self._frame = self.get_parameter('frame_id').value
+        self._period = float(self.get_parameter('control_period').value)
+        self._backend = self._make_backend()
+        self._names = tuple(self._backend.joint_names)
+        self._setpoints = self._nominal_setpoints()
+        self._last_step_wall = time.monotonic()
+        self._wall = WallClock(clock_type=ClockType.STEADY_TIME)
+        self._map_boxes = []
+        self._terrain = None
+
+        self._clock_pub = self.create_publisher(Clock, '/clock', 10)
+        self._joint_pub = self.create_publisher(JointState, 'joint_states', 10)
+        self._imu_pub = self.create_publisher(Imu, 'imu', 10)
+        self._odom_pub = self.create_publisher(Odometry, 'odom', 10)
+        self._wrench_pubs = (self.create_publisher(WrenchStamped, 'left_foot_wrench', 10),
+                             self.create_publisher(WrenchStamped, 'right_foot_wrench', 10))
+        self._zmp_pub = self.create_publisher(PointStamped, 'zmp', 10)
+        self._com_pub = self.create_publisher(PointStamped, 'com', 10)
+        self._command_sub = self.create_subscription(JointState, 'joint_commands',
+                                                     self._on_command, 10)
+        self.create_subscription(OccupancyGridMsg, 'map', self._on_map, LATCHED_IN)
+        self.create_service(Push, 'push', self._on_push)
+        self.create_service(Trigger, 'reset', self._on_reset)
+        self.create_service(SetTerrain, 'set_terrain', self._on_set_terrain)
+        self._readings = self._reset_robot()
+        self._publish(self._readings)
+        # Polls at 1 kHz of wall time: real-time steps, and the lockstep timeout.
+        self.create_timer(0.001, self._on_timer, clock=self._wall)
+        self.get_logger().info(
+            f'{self.get_parameter("backend").value} simulator ready: {len(self._names)} joints, '
+            f'{"lockstep" if self._lockstep() else "real time"}')
+
+    # --- set-up -----------------------------------------------------------------------------
+    def _make_backend(self):
+        name = self.get_parameter('backend').value
+        if name == 'pybullet':
+            from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+            step = float(self.get_parameter('physics_step').value)
+            config = PyBulletConfig(gui=bool(self.get_parameter('gui').value), time_step=step,
+                                    control_substeps=max(1, int(round(self._period / step))),
+                                    control_mode=self.get_parameter('control_mode').value)
+            return PyBulletBackend(coman_like(), config)
+        if name == 'model':
+            from biped_sim.model_plant_backend import ModelPlantBackend
+            return ModelPlantBackend(coman_like())
+        raise ValueError(f'backend {name!r} unknown: use pybullet or model')
+
+    def _nominal_setpoints(self) -> np.ndarray:
+        nominal = coman_like().nominal_joint_positions
+        return np.array([nominal.get(name, 0.0) for name in self._names])
+
+    def _reset_robot(self):
+        readings = self._backend.reset(base_yaw=float(self.get_parameter('start_yaw').value),
+                                       base_position=None)
+        x, y = (float(self.get_parameter(n).value) for n in ('start_x', 'start_y'))
+        if x or y:
+            base = np.array(readings.base.position, dtype=float)
+            base[:2] = (x, y)
+            readings = self._backend.reset(base_position=base,
+                                           base_yaw=float(self.get_parameter('start_yaw').value))
+        self._setpoints = self._nominal_setpoints()
+        return readings
+
+    def _lockstep(self) -> bool:
+        return bool(self.get_parameter('lockstep').value)
+
+    # --- stepping ---------------------------------------------------------------------------
+    def _on_command(self, msg: JointState) -> None:
+        try:
+            self._setpoints = setpoints_from_joint_state(msg, self._names, self._setpoints)
+        except ValueError as error:
+            self.get_logger().error(f'joint_commands rejected: {error}',
+                                    throttle_duration_sec=2.0)
+            return
+        if self._lockstep() and seconds_of(msg.header.stamp) >= self._readings.time - 1e-6:
+            self._step()
+
+    def _on_timer(self) -> None:
+        waited = time.monotonic() - self._last_step_wall
+        if self._lockstep() and self._command_sub.get_publisher_count() > 0:
+            if waited >= float(self.get_parameter('lockstep_timeout').value):
+                self.get_logger().warning(f'no joint command for t={self._readings.time:.2f} '
+                                          f'after {waited:.2f} s: stepping with the last one',
+                                          throttle_duration_sec=5.0)
+                self._step()
+            return
+        rate = max(1e-3, float(self.get_parameter('real_time_factor').value))
+        if waited >= self._period / rate:
+            self._step()
+
+    def _step(self) -> None:
+        self._last_step_wall = time.monotonic()
+        try:
+            self._readings = self._backend.step(self._setpoints)
+        except BipedSimError as error:
+            self.get_logger().error(f'simulation step failed: {error}')
+            return
+        self._publish(self._readings)
+
+    def _publish(self, readings) -> None:
+        stamp = stamp_of(readings.time)
+        self._clock_pub.publish(Clock(clock=stamp))
+        self._imu_pub.publish(imu_msg(readings.imu, 'imu_link', stamp))
+        self._odom_pub.publish(odometry_msg(readings.base, self._frame, 'pelvis', stamp))
+        for pub, foot, frame in zip(self._wrench_pubs, (readings.left_foot, readings.right_foot),
+                                    ('l_ankle_ft', 'r_ankle_ft')):
+            pub.publish(wrench_msg(foot, frame, stamp))
+        zmp = readings.zmp if np.all(np.isfinite(readings.zmp)) else (math.nan, math.nan)
+        self._zmp_pub.publish(point_msg(zmp, self._frame, stamp))
+        self._com_pub.publish(point_msg(readings.com_position, self._frame, stamp))
+        # joint_states last: the controller computes when it arrives
+        self._joint_pub.publish(joint_state_msg(readings.joints, stamp))
+
+    # --- services ---------------------------------------------------------------------------
+    def _on_push(self, request: Push.Request, response: Push.Response) -> Push.Response:
+        force = (request.force.x, request.force.y, request.force.z)
+        point = (request.point.x, request.point.y, request.point.z)
+        values = force + point + (request.duration,)
+        if not all(math.isfinite(v) for v in values) or request.duration <= 0.0 or \
+                math.hypot(*force) > MAX_PUSH_FORCE:
+            response.success = False
+            response.message = (f'push rejected: force {force} N (|F| <= {MAX_PUSH_FORCE}), '
+                                 f'duration {request.duration} s (> 0) and point must be finite')
+            return response
+        try:
+            self._backend.push(ExternalPush(force=force, duration=request.duration,
+                                            link=request.link or None, point=point))
+        except BipedSimError as error:
+            response.success, response.message = False, f'push rejected: {error}'
+            return response
+        response.success = True
+        response.message = f'pushing {force} N for {request.duration} s from ' \
+                           f't={self._readings.time:.3f} s'
+        self.get_logger().info(response.message)
+        return response
+
+    def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
+        self._readings = self._reset_robot()
+        self._publish(self._readings)
+        response.success, response.message = True, 'robot reset to its start pose'
+        return response
+
+    def _on_set_terrain(self, request: SetTerrain.Request, response: SetTerrain.Response):
+        if not hasattr(self._backend, 'add_terrain'):
+            response.success, response.message = False, 'this backend has no terrain'
+            return response
+        try:
+            if request.kind == SetTerrain.Request.TILES:
+                terrain = generate_terrain(TerrainParams(
+                    tile_area=request.tile_size ** 2, side_length=request.side_length,
+                    min_height=request.min_height, max_height=request.max_height,
+                    origin=(request.origin_x, request.origin_y), seed=int(request.seed)))
+            elif request.kind == SetTerrain.Request.FLAT:
+                terrain = None
+            else:
+                raise ValueError(f'kind {request.kind} unknown: 0 flat, 1 tiles')
+        except (BipedSimError, ValueError) as error:
+            response.success, response.message = False, f'terrain rejected: {error}'
+            return response
+        self._terrain = terrain
+        self._rebuild_scenery()
+        response.success, response.message = True, 'terrain set'
+        return response
+
+    def _on_map(self, msg: OccupancyGridMsg) -> None:
+        if not hasattr(self._backend, 'add_obstacles'):
+            return
+        values = np.asarray(msg.data, dtype=np.int16)
+        if values.size != msg.info.width * msg.info.height or msg.info.resolution <= 0.0:
+            self.get_logger().error('map ignored: data size or resolution malformed')
+            return
+        occupied = values.reshape(msg.info.height, msg.info.width) >= 50
+        origin = (msg.info.origin.position.x, msg.info.origin.position.y)
+        self._map_boxes = boxes_from_occupied_cells(occupied, msg.info.resolution, origin)
+        self._rebuild_scenery()
+        self.get_logger().info(f'{len(self._map_boxes)} obstacle boxes from the map')
+
+    def _rebuild_scenery(self) -> None:
+        """Obstacles from the map and the terrain, both kept when either changes."""
+        self._backend.clear_scenery()
+        if self._map_boxes:
+            self._backend.add_obstacles(self._map_boxes)
+        if self._terrain is not None:
+            self._backend.add_terrain(self._terrain)
+
+    def destroy_node(self) -> None:
+        self._backend.close()
+        super().destroy_node()
+
+
+def main(args=None) -> None:
+    run_node(SimulatorNode, args)
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,110 @@
+"""Node-level tests of the simulator: real PyBullet, real rclpy and DDS, in process."""
+import math
+
+from biped_msgs.srv import Push, SetTerrain
+from geometry_msgs.msg import WrenchStamped
+from nav_msgs.msg import Odometry
+import pytest
+import rclpy
+from rclpy.parameter import Parameter
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, JointState
+from std_srvs.srv import Trigger
+
+from biped_sim.nodes.simulator import SimulatorNode
+from ros_harness import Collector, spin_until, wait_for_subscribers
+
+
+@pytest.fixture
+def sim(ros_context, executor):
+    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('real_time_factor', value=5.0)]))
+    client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
+    s = dict(node=node, client=client, executor=executor)
+    s['joints'] = Collector(client, JointState, 'joint_states', 100)
+    s['odom'] = Collector(client, Odometry, 'odom', 100)
+    s['imu'] = Collector(client, Imu, 'imu', 100)
+    s['left'] = Collector(client, WrenchStamped, 'left_foot_wrench', 100)
+    s['right'] = Collector(client, WrenchStamped, 'right_foot_wrench', 100)
+    s['clock'] = Collector(client, Clock, '/clock', 100)
+    return s
+
+
+def call(s, srv_type, name, request, timeout=10.0):
+    client = s['client'].create_client(srv_type, name)
+    assert client.wait_for_service(timeout_sec=timeout)
+    future = client.call_async(request)
+    assert spin_until(s['executor'], future.done, timeout)
+    return future.result()
+
+
+def test_sensors_are_published_with_sim_time_and_consistent_values(sim):
+    assert sim['joints'].wait_for(sim['executor'], lambda m: len(m) >= 10, timeout=15)
+    joint = sim['joints'].messages[-1]
+    assert len(joint.name) == 23 and len(joint.position) == 23
+    stamps = [m.clock.sec + m.clock.nanosec * 1e-9 for m in sim['clock'].messages]
+    steps = [round(b - a, 6) for a, b in zip(stamps, stamps[1:])]
+    assert steps and all(step == pytest.approx(0.02) for step in steps)
+    odom = sim['odom'].messages[-1]
+    assert 0.5 < odom.pose.pose.position.z < 0.6  # standing pelvis
+    imu = sim['imu'].messages[-1]
+    assert imu.linear_acceleration.z == pytest.approx(9.81, abs=0.3)  # specific force, upright
+    weight = sum(w.messages[-1].wrench.force.z for w in (sim['left'], sim['right']))
+    assert weight > 150.0  # the legs above the F/T sensors rest on the feet
+
+
+def test_lockstep_waits_for_the_controller_command(sim, ros_context):
+    commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(sim['executor'], commands)
+    spin_until(sim['executor'], lambda: False, 0.2)
+    # a controller now exists: with no answer the clock holds (until the 0.5 s timeout)
+    count = len(sim['clock'].messages)
+    spin_until(sim['executor'], lambda: False, 0.3)
+    assert len(sim['clock'].messages) - count <= 1
+    last = sim['joints'].messages[-1]
+    answer = JointState(header=last.header, name=list(last.name[:12]),
+                        position=list(last.position[:12]))
+    for _ in range(5):
+        count = len(sim['clock'].messages)
+        commands.publish(answer)
+        assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
+        last = sim['joints'].messages[-1]
+        answer.header = last.header
+
+
+def test_push_service_moves_the_robot_and_rejects_bad_requests(sim):
+    assert sim['odom'].wait_for(sim['executor'], timeout=15)
+    x0 = sim['odom'].messages[-1].pose.pose.position.x
+    request = Push.Request()
+    request.force.x, request.duration = 150.0, 0.1
+    assert call(sim, Push, 'push', request).success
+    spin_until(sim['executor'], lambda: False, 0.5)
+    assert sim['odom'].messages[-1].pose.pose.position.x > x0 + 0.002
+    for force, duration in ((math.nan, 0.1), (10.0, -1.0), (1e6, 0.1)):
+        bad = Push.Request()
+        bad.force.x, bad.duration = force, duration
+        response = call(sim, Push, 'push', bad)
+        assert not response.success and 'push rejected' in response.message
+
+
+def test_reset_and_terrain_services(sim):
+    assert call(sim, Trigger, 'reset', Trigger.Request()).success
+    tiles = SetTerrain.Request(kind=SetTerrain.Request.TILES, tile_size=0.2, seed=3)
+    assert call(sim, SetTerrain, 'set_terrain', tiles).success
+    bad = SetTerrain.Request(kind=7)
+    response = call(sim, SetTerrain, 'set_terrain', bad)
+    assert not response.success and 'kind 7 unknown' in response.message
+    inverted = SetTerrain.Request(kind=SetTerrain.Request.TILES, min_height=0.1, max_height=0.0)
+    assert not call(sim, SetTerrain, 'set_terrain', inverted).success
+    assert call(sim, SetTerrain, 'set_terrain', SetTerrain.Request(kind=0)).success
+
+
+def test_malformed_joint_commands_are_rejected_and_the_node_keeps_running(sim):
+    commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(sim['executor'], commands)
+    commands.publish(JointState(name=['no_such_joint'], position=[0.1]))
+    commands.publish(JointState(name=['l_knee'], position=[math.nan]))
+    commands.publish(JointState(name=['l_knee', 'r_knee'], position=[0.1]))
+    count = len(sim['clock'].messages)
+    assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count + 3, timeout=10)
+    assert 0.5 < sim['odom'].messages[-1].pose.pose.position.z < 0.6
