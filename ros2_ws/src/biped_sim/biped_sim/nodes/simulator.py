@@ -32,6 +32,7 @@ from std_srvs.srv import Trigger
 from biped_planner.nodes.node_runner import run_node
 from biped_sim.errors import BipedSimError
 from biped_sim.external_push import ExternalPush
+from biped_sim.joint_servo import step_toward
 from biped_sim.nodes.conversions import (imu_msg, joint_state_msg, odometry_msg, point_msg,
                                          setpoints_from_joint_state, wrench_msg)
 from biped_sim.obstacles import boxes_from_occupied_cells
@@ -59,6 +60,7 @@ class SimulatorNode(Node):
         super().__init__('simulator', **kwargs)
         for name, default in (('backend', 'pybullet'), ('gui', False), ('control_mode', 'torque'),
                               ('control_period', 0.02), ('physics_step', 0.001),
+                              ('leg_kp', 2000.0), ('leg_kd', 8.0), ('setpoint_parts', 4),
                               ('lockstep', True), ('lockstep_timeout', 0.5),
                               ('real_time_factor', 1.0), ('start_x', 0.0), ('start_y', 0.0),
                               ('start_yaw', 0.0), ('frame_id', 'map')):
@@ -68,6 +70,10 @@ class SimulatorNode(Node):
         self._backend = self._make_backend()
         self._names = tuple(self._backend.joint_names)
         self._setpoints = self._nominal_setpoints()
+        self._previous_setpoints = None
+        self._velocities = np.zeros(len(self._names))
+        self._substeps = max(1, int(round(self._period /
+                                          float(self.get_parameter('physics_step').value))))
         self._last_step_wall = time.monotonic()
         self._wall = WallClock(clock_type=ClockType.STEADY_TIME)
         self._map_boxes = []
@@ -103,7 +109,9 @@ class SimulatorNode(Node):
             step = float(self.get_parameter('physics_step').value)
             config = PyBulletConfig(gui=bool(self.get_parameter('gui').value), time_step=step,
                                     control_substeps=max(1, int(round(self._period / step))),
-                                    control_mode=self.get_parameter('control_mode').value)
+                                    control_mode=self.get_parameter('control_mode').value,
+                                    leg_kp=float(self.get_parameter('leg_kp').value),
+                                    leg_kd=float(self.get_parameter('leg_kd').value))
             return PyBulletBackend(coman_like(), config)
         if name == 'model':
             from biped_sim.model_plant_backend import ModelPlantBackend
@@ -124,6 +132,8 @@ class SimulatorNode(Node):
             readings = self._backend.reset(base_position=base,
                                            base_yaw=float(self.get_parameter('start_yaw').value))
         self._setpoints = self._nominal_setpoints()
+        self._previous_setpoints = None
+        self._velocities = np.zeros(len(self._names))
         return readings
 
     def _lockstep(self) -> bool:
@@ -133,6 +143,10 @@ class SimulatorNode(Node):
     def _on_command(self, msg: JointState) -> None:
         try:
             self._setpoints = setpoints_from_joint_state(msg, self._names, self._setpoints)
+            if len(msg.velocity) == len(msg.name):
+                self._velocities = setpoints_from_joint_state(
+                    JointState(name=msg.name, position=msg.velocity), self._names,
+                    np.zeros(len(self._names)))
         except ValueError as error:
             self.get_logger().error(f'joint_commands rejected: {error}',
                                     throttle_duration_sec=2.0)
@@ -156,7 +170,11 @@ class SimulatorNode(Node):
     def _step(self) -> None:
         self._last_step_wall = time.monotonic()
         try:
-            self._readings = self._backend.step(self._setpoints)
+            self._readings = step_toward(self._backend, self._previous_setpoints,
+                                         self._setpoints, self._substeps,
+                                         int(self.get_parameter('setpoint_parts').value),
+                                         self._velocities)
+            self._previous_setpoints = self._setpoints.copy()
         except BipedSimError as error:
             self.get_logger().error(f'simulation step failed: {error}')
             return
