@@ -19,7 +19,7 @@ setup(
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
-
+            'mpc_controller = biped_mpc.nodes.mpc_controller:main',
         ],
     },
 )
