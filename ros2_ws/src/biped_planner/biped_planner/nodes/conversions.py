@@ -12,7 +12,7 @@ import numpy as np
 from visualization_msgs.msg import Marker, MarkerArray
 
 from biped_planner.errors import MapError
-from biped_planner.footsteps import Footstep, LEFT
+from biped_planner.footsteps import Footstep, LEFT, RIGHT
 from biped_planner.occupancy_grid import OccupancyGrid
 from biped_planner.pose2d import Pose2D
 from biped_planner.walk_command import CommandLimits, WalkCommand
@@ -237,3 +237,27 @@ def window_from_reference_msg(msg: ReferenceTrajectory):
     t0 = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
     return ReferenceWindow(t=t0 + msg.dt * np.arange(n), support=support, step_index=step_index,
                            **arrays)
+
+
+def feet_from_sole_poses(msg):
+    """[left, right] Footsteps from a geometry_msgs/PoseArray of the two soles.
+
+    :raises ValueError: unless it holds exactly two finite poses
+    """
+    if len(msg.poses) != 2:
+        raise ValueError(f'sole_poses must hold 2 poses, got {len(msg.poses)}')
+    feet = []
+    for side, pose in zip((LEFT, RIGHT), msg.poses):
+        values = (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+        if not all(math.isfinite(v) for v in values):
+            raise ValueError('sole_poses are not finite')
+        feet.append(Footstep(side, *values))
+    return tuple(feet)
+
+
+def body_between(feet) -> Pose2D:
+    """The body pose midway between two feet, with their mean heading."""
+    left, right = feet
+    yaw = math.atan2(math.sin(left.yaw) + math.sin(right.yaw),
+                     math.cos(left.yaw) + math.cos(right.yaw))
+    return Pose2D(0.5 * (left.x + right.x), 0.5 * (left.y + right.y), yaw)

@@ -1,8 +1,8 @@
 """The A* and footstep planner node: map, goals and commands in, footstep plans out.
 
 Subscribes: map (nav_msgs/OccupancyGrid, transient local), goal_pose (geometry_msgs/PoseStamped),
-walk_command (biped_msgs/WalkCommand), cmd_vel (geometry_msgs/Twist), odom (nav_msgs/Odometry:
-the start of a plan), walking_state (biped_msgs/WalkingState: teleop plans stay ahead of it).
+walk_command (biped_msgs/WalkCommand), cmd_vel (geometry_msgs/Twist), sole_poses
+(geometry_msgs/PoseArray from the controller: a plan starts between the feet; odom until then), walking_state (biped_msgs/WalkingState: teleop plans stay ahead of it).
 Publishes (transient local): footstep_plan (biped_msgs/FootstepPlan, with status and error code),
 plan (nav_msgs/Path), footstep_markers (visualization_msgs/MarkerArray); and
 walk_command_status (biped_msgs/CommandStatus) for the commands it acts on.
@@ -10,7 +10,7 @@ walk_command_status (biped_msgs/CommandStatus) for the commands it acts on.
 import math
 
 from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkCommandMsg, WalkingState
-from geometry_msgs.msg import PoseStamped, Twist
+from geometry_msgs.msg import PoseArray, PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -21,7 +21,8 @@ from biped_planner.errors import (BipedPlannerError, CommandError, GoalOccupiedE
                                   GoalOutsideMapError, MapError, NoPathError,
                                   StartOccupiedError, StartOutsideMapError)
 from biped_planner.footstep_planner import FootstepPlanner, FootstepPlannerParams
-from biped_planner.nodes.conversions import (command_status_msg, failed_plan_msg,
+from biped_planner.nodes.conversions import (body_between, command_status_msg, failed_plan_msg,
+                                             feet_from_sole_poses,
                                              footstep_markers, footstep_plan_msg,
                                              grid_from_msg, path_msg, pose2d_from_pose,
                                              walk_command_from_msg)
@@ -120,6 +121,8 @@ class FootstepPlannerNode(Node):
         self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
         self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
         self.create_subscription(Odometry, 'odom', self._on_odom, 10)
+        self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
+        self._soles_seen = False
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
         self.get_logger().info('footstep planner ready (waiting for map and odom)')
 
@@ -139,7 +142,19 @@ class FootstepPlannerNode(Node):
         self.get_logger().info(f'map {msg.info.width} x {msg.info.height} cells of '
                                f'{msg.info.resolution} m')
 
+    def _on_soles(self, msg: PoseArray) -> None:
+        """Plans start between the feet (the pelvis is not above their midpoint)."""
+        if self._walking():
+            return
+        try:
+            self._pose = body_between(feet_from_sole_poses(msg))
+            self._soles_seen = True
+        except (ValueError, BipedPlannerError) as error:
+            self.get_logger().warning(f'sole_poses ignored: {error}', throttle_duration_sec=5.0)
+
     def _on_odom(self, msg: Odometry) -> None:
+        if self._soles_seen:
+            return
         try:
             self._pose = pose2d_from_pose(msg.pose.pose)
         except BipedPlannerError:

@@ -1,19 +1,20 @@
 """The reference generator node: footstep plan + walking state in, MPC references out.
 
 Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_state
-(biped_msgs/WalkingState: the walk's start time and phase), odom (nav_msgs/Odometry: where to
-stand before the first walk).
+(biped_msgs/WalkingState: the walk's start time and phase), sole_poses (geometry_msgs/PoseArray
+from the controller: where to stand before the first walk; odom until it arrives).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds.
 """
 from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkingState
+from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from biped_planner.errors import BipedPlannerError
-from biped_planner.nodes.conversions import (footsteps_from_msgs, pose2d_from_pose,
-                                             reference_trajectory_msg)
+from biped_planner.nodes.conversions import (feet_from_sole_poses, footsteps_from_msgs,
+                                             pose2d_from_pose, reference_trajectory_msg)
 from biped_planner.nodes.node_runner import run_node
 from biped_planner.nodes.parameters import declare_dataclass_parameters
 from biped_planner.plan_session import feet_beside
@@ -62,6 +63,8 @@ class ReferenceGeneratorNode(Node):
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
         self.create_subscription(Odometry, 'odom', self._on_odom, 10)
+        self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
+        self._soles_seen = False
         self.create_timer(1.0 / float(self.get_parameter('rate').value), self._on_timer)
         self.get_logger().info(f'reference generator ready ({self._horizon} samples of '
                                f'{self._dt} s)')
@@ -91,8 +94,19 @@ class ReferenceGeneratorNode(Node):
             self._session.end_walk()
         self._phase = msg.phase
 
-    def _on_odom(self, msg: Odometry) -> None:
+    def _on_soles(self, msg: PoseArray) -> None:
+        """Stand where the feet are: standing on feet placed around the pelvis instead would
+        make the COM chase its own reference (the COM is not above the pelvis)."""
         if self._session.reference is not None:
+            return
+        try:
+            self._standing = feet_from_sole_poses(msg)
+            self._soles_seen = True
+        except ValueError as error:
+            self.get_logger().warning(f'sole_poses ignored: {error}', throttle_duration_sec=5.0)
+
+    def _on_odom(self, msg: Odometry) -> None:
+        if self._session.reference is not None or self._soles_seen:
             return
         try:
             self._standing = feet_beside(pose2d_from_pose(msg.pose.pose),
