@@ -1,112 +1,99 @@
 #!/usr/bin/env python3
-"""The main job: bring up the node graph headless, walk, stop, and plot what happened.
+"""The main job: the humanoid walks from START to GOAL around obstacles, through the node graph.
 
-Today's graph is the walking state machine: the demo sends START, lets the robot take steps,
-sends STOP, waits for Idle, and writes output/demo/walking_phases.png and summary.json from the
-walking_state messages it received over DDS.
+Brings up the whole graph headless in lockstep (simulator, state machine, A*/footstep planner,
+reference generator, MPC controller), publishes the paper's START -> GOAL map, sends the goal
+as a user would (goal_pose), records a rosbag2 of the run, and writes plots (map, A* path,
+footsteps, COM; ZMP against the support polygon) and summary.json to output/demo/.
 """
 import argparse
 import json
 from pathlib import Path
+import shutil
+import statistics
 import sys
 import time
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bringup import available_nodes, GraphOptions, NodeGraph  # noqa: E402
+from graph_session import GraphSession  # noqa: E402
+from run_plots import top_view, zmp_figure, zmp_inside_fraction  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
-PHASE_NAMES = ['Idle', 'Initialize', 'Single support', 'Double support', 'Fallen']
+IDLE = 0
 
 
-def record_walk(walk_seconds: float, domain_id: int, log=print) -> list:
-    """Start the graph, walk for walk_seconds, stop; return (t, phase, support, step) samples."""
-    import rclpy
-    from biped_msgs.msg import WalkCommand, WalkingState
-    graph = NodeGraph(GraphOptions(nodes=[n for n in available_nodes()
-                                          if n == 'state_machine'], domain_id=domain_id), log)
-    graph.start()
-    rclpy.init(domain_id=domain_id)
-    node = rclpy.create_node('demo_client')
-    samples = []
-    node.create_subscription(WalkingState, 'walking_state', lambda m: samples.append((
-        m.header.stamp.sec + m.header.stamp.nanosec * 1e-9, m.phase, m.support_foot,
-        m.step_index)), 50)
-    commands = node.create_publisher(WalkCommand, 'walk_command', 10)
-
-    def spin_for(seconds, until=lambda: False):
-        end = time.monotonic() + seconds
-        while time.monotonic() < end and not until():
-            graph.check_alive()
-            rclpy.spin_once(node, timeout_sec=0.02)
-        return until()
-
-    try:
-        graph.wait_until_up()
-        if not spin_for(15.0, lambda: commands.get_subscription_count() > 0 and samples):
-            raise RuntimeError('the state machine did not answer within 15 s')
-        log('[demo] START: walking in place')
-        commands.publish(WalkCommand(command=WalkCommand.START))
-        spin_for(walk_seconds)
-        log('[demo] STOP: finish the step, then stand')
-        commands.publish(WalkCommand(command=WalkCommand.STOP))
-        if not spin_for(5.0, lambda: samples and samples[-1][1] == WalkingState.IDLE):
-            raise RuntimeError('the state machine did not return to Idle after STOP')
-        spin_for(0.3)
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-        graph.stop()
-    return samples
-
-
-def plot(samples: list, out: Path) -> Path:
-    import matplotlib
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt
-    t0 = samples[0][0]
-    t = [s[0] - t0 for s in samples]
-    fig, (ax_phase, ax_step) = plt.subplots(2, 1, sharex=True, figsize=(9, 5))
-    ax_phase.step(t, [s[1] for s in samples], where='post')
-    ax_phase.set_yticks(range(len(PHASE_NAMES)), PHASE_NAMES)
-    ax_phase.set_title('Walking state machine over DDS: START, steps, STOP')
-    ax_step.step(t, [s[3] for s in samples], where='post', label='steps completed')
-    ax_step.step(t, [s[2] for s in samples], where='post', label='support (0 L, 1 R, 2 both)')
-    ax_step.set_xlabel('time (s)')
-    ax_step.legend(loc='upper left')
-    fig.tight_layout()
-    path = out / 'walking_phases.png'
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+def run(out: Path, domain_id: int, model: str, timeout: float, log=print) -> dict:
+    from biped_planner.example_maps import paper_start_goal_example
+    grid, start, goal = paper_start_goal_example()
+    bag = out / 'bag'
+    if bag.exists():
+        shutil.rmtree(bag)
+    overrides = {'simulator': [f'start_x:={start.x}', f'start_y:={start.y}',
+                               f'start_yaw:={start.yaw}'],
+                 'mpc_controller': [f'model:={model}']}
+    wall_start = time.monotonic()
+    with GraphSession(domain_id, bag_dir=bag, overrides=overrides, log=log) as session:
+        session.publish_map(grid)
+        session.wait_until_ready()
+        t0 = session.sim_time()
+        log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
+        session.send_goal(goal.x, goal.y, goal.yaw)
+        session.spin_until(lambda: session.series.plans, 20.0)
+        plan = session.series.plans[-1] if session.series.plans else None
+        if plan is None or plan.status != 0:
+            raise RuntimeError(f'planning failed: {plan.error_msg if plan else "no plan"}')
+        walked = session.spin_until(lambda: session.phase() not in (None, IDLE), 20.0)
+        finished = walked and session.spin_until(
+            lambda: session.phase() == IDLE or session.fallen(), timeout)
+        session.wait_sim_time(1.0, 20.0)  # the final settle of the hip
+        series = session.series
+        wall = time.monotonic() - wall_start
+    bag_summary = session.summary  # written when the session closed the bag
+    pelvis = series.pelvis[-1]
+    error = ((pelvis[1] - goal.x) ** 2 + (pelvis[2] - goal.y) ** 2) ** 0.5
+    sim_duration = pelvis[0] - t0
+    solve = sorted(series.solve_times)
+    summary = {
+        'goal': [goal.x, goal.y], 'final_pelvis': [round(pelvis[1], 4), round(pelvis[2], 4)],
+        'final_error_m': round(error, 4), 'fallen': session.fallen(), 'finished': finished,
+        'steps_planned': len(plan.footsteps) - 2,
+        'steps_walked': max(s[2] for s in series.states),
+        'simulated_s': round(sim_duration, 2), 'wall_s': round(wall, 1),
+        'zmp_inside_support_fraction': round(zmp_inside_fraction(series, margin=0.01), 3),
+        'max_tilt_deg': round(max(p[4] for p in series.pelvis) * 57.2958, 2),
+        'mpc_solve_time_median_us': round(statistics.median(solve) * 1e6, 1) if solve else None,
+        'mpc_solve_time_p99_us': round(solve[int(0.99 * (len(solve) - 1))] * 1e6, 1)
+        if solve else None,
+        'model': model,
+        'bag': str(bag), 'bag_messages': bag_summary.message_count if bag_summary else 0,
+    }
+    (out / 'summary.json').write_text(json.dumps(summary, indent=2))
+    top_view(series, out / 'walk_top_view.png',
+             f'START -> GOAL through the node graph ({model}): error {error:.3f} m',
+             grid=grid, goal=(goal.x, goal.y))
+    zmp_figure(series, out / 'walk_zmp.png', 'ZMP (F/T) against the support polygon')
+    return summary
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument('--walk-seconds', type=float, default=4.0)
-    parser.add_argument('--domain-id', type=int, default=42)
     parser.add_argument('--out', type=Path, default=REPO / 'output' / 'demo')
+    parser.add_argument('--domain-id', type=int, default=42)
+    parser.add_argument('--model', choices=['three_mass', 'lipm'], default='three_mass')
+    parser.add_argument('--timeout', type=float, default=300.0,
+                        help='wall seconds to wait for the walk to end')
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    started = time.monotonic()
     try:
-        samples = record_walk(args.walk_seconds, args.domain_id)
+        summary = run(args.out, args.domain_id, args.model, args.timeout)
     except (RuntimeError, TimeoutError) as error:
         print(f'[demo] error: {error}', file=sys.stderr)
         return 1
-    phases = [s[1] for s in samples]
-    summary = {
-        'walking_state_messages': len(samples),
-        'steps_completed': max(s[3] for s in samples),
-        'phases_seen': sorted({PHASE_NAMES[p] for p in phases}),
-        'ended_idle': phases[-1] == 0,
-        'wall_time_s': round(time.monotonic() - started, 2),
-    }
-    (args.out / 'summary.json').write_text(json.dumps(summary, indent=2))
-    figure = plot(samples, args.out)
-    print(f'[demo] {summary["steps_completed"]} steps, ended Idle: {summary["ended_idle"]}')
-    print(f'[demo] wrote {figure} and {args.out / "summary.json"}')
-    return 0 if summary['ended_idle'] and summary['steps_completed'] > 0 else 1
+    print(json.dumps(summary, indent=2))
+    print(f'[demo] plots and summary in {args.out}')
+    ok = summary['finished'] and not summary['fallen'] and summary['final_error_m'] <= 0.15
+    return 0 if ok else 1
 
 
 if __name__ == '__main__':

@@ -1,0 +1,245 @@
+"""Drive the running node graph as a user would, and keep what it publishes.
+
+A GraphSession brings up the nodes (scripts/bringup.py), records a rosbag2 of the run
+(scripts/record.py), and offers the user's actions: publish a map, send a goal, a walk command,
+a velocity command, push the robot. It keeps the time series the plots and checks need
+(pelvis, COM, measured ZMP, support bounds, walking state, plans, controller diagnostics).
+Used by the demo, the scenario runner and the graph tests.
+"""
+from dataclasses import dataclass, field
+import math
+from pathlib import Path
+import sys
+import time
+from typing import Callable, List, Optional
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bringup import GraphOptions, NodeGraph  # noqa: E402
+
+RECORDED_TOPICS = ['walking_state', 'footstep_plan', 'plan', 'footstep_markers',
+                   'reference_trajectory', 'controller_diagnostics', 'odom', 'zmp', 'com', 'imu',
+                   'joint_states', 'joint_commands', 'left_foot_wrench', 'right_foot_wrench',
+                   'walk_command', 'walk_command_status', 'cmd_vel', 'goal_pose', 'map']
+ALL_NODES = ['simulator', 'state_machine', 'footstep_planner', 'reference_generator',
+             'mpc_controller']
+
+
+@dataclass
+class RunSeries:
+    """Time series of one run, each a list of tuples (sim time first)."""
+
+    pelvis: List[tuple] = field(default_factory=list)        # t, x, y, z, tilt
+    com: List[tuple] = field(default_factory=list)           # t, x, y, z
+    zmp: List[tuple] = field(default_factory=list)           # t, x, y (measured, F/T)
+    bounds: List[tuple] = field(default_factory=list)        # t, x_min, y_min, x_max, y_max
+    zmp_reference: List[tuple] = field(default_factory=list)  # t, x, y
+    states: List[tuple] = field(default_factory=list)        # t, phase, step, fallen, reason
+    solve_times: List[float] = field(default_factory=list)   # s
+    controller_status: List[int] = field(default_factory=list)
+    plans: list = field(default_factory=list)                 # FootstepPlan messages
+    path: list = field(default_factory=list)                  # (x, y) of the last nav Path
+
+
+def stamp_seconds(stamp) -> float:
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
+class GraphSession:
+    """The whole graph, a recorder, and a client node acting for the user."""
+
+    def __init__(self, domain_id: int, bag_dir: Optional[Path] = None, nodes=None,
+                 overrides=None, backend: str = 'pybullet', gui: bool = False,
+                 log=print) -> None:
+        self.log = log
+        self.domain_id = domain_id
+        self.graph = NodeGraph(GraphOptions(
+            nodes=list(nodes or ALL_NODES), overrides=dict(overrides or {}),
+            domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True),
+            log=log)
+        self.bag_dir = bag_dir
+        self.series = RunSeries()
+        self.recorder = None
+        self.summary = None
+        self._context = None
+
+    # --- life cycle -------------------------------------------------------------------------
+    def __enter__(self) -> 'GraphSession':
+        self.start()
+        return self
+
+    def __exit__(self, *exc) -> bool:
+        self.stop()
+        return False
+
+    def start(self, timeout: float = 60.0) -> None:
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+        self.graph.start()
+        self.graph.wait_until_up(timeout)
+        self._context = rclpy.Context()
+        rclpy.init(context=self._context, domain_id=self.domain_id)
+        self.node = rclpy.create_node('graph_session', context=self._context, parameter_overrides=[
+            rclpy.parameter.Parameter('use_sim_time', value=True)])
+        self.executor = SingleThreadedExecutor(context=self._context)
+        self.executor.add_node(self.node)
+        self._make_endpoints()
+        if self.bag_dir is not None:
+            from record import BagRecorder
+            self.recorder = BagRecorder(self.node, self.bag_dir, topics=RECORDED_TOPICS,
+                                        log=lambda text: None)
+
+    def stop(self) -> None:
+        if self._context is None:
+            self.graph.stop()
+            return
+        import rclpy
+        try:
+            if self.recorder is not None:
+                self.summary = self.recorder.close(self.executor)
+                self.log('[session] ' + self.summary.lines()[0])
+        finally:
+            self.executor.remove_node(self.node)
+            self.node.destroy_node()
+            self.executor.shutdown()
+            rclpy.try_shutdown(context=self._context)
+            self._context = None
+            self.graph.stop()
+
+    def _make_endpoints(self) -> None:
+        from biped_msgs.msg import (ControllerDiagnostics, FootstepPlan, ReferenceTrajectory,
+                                    WalkCommand, WalkingState)
+        from biped_msgs.srv import Push, SetTerrain
+        from geometry_msgs.msg import PointStamped, PoseStamped, Twist
+        from nav_msgs.msg import OccupancyGrid, Odometry, Path as PathMsg
+        from rclpy.qos import DurabilityPolicy, QoSProfile
+        latched = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        node, s = self.node, self.series
+        self.map_pub = node.create_publisher(OccupancyGrid, 'map', QoSProfile(
+            depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        self.goal_pub = node.create_publisher(PoseStamped, 'goal_pose', 10)
+        self.command_pub = node.create_publisher(WalkCommand, 'walk_command', 10)
+        self.cmd_vel_pub = node.create_publisher(Twist, 'cmd_vel', 10)
+        self.push_client = node.create_client(Push, 'push')
+        self.terrain_client = node.create_client(SetTerrain, 'set_terrain')
+
+        def on_odom(m):
+            q = m.pose.pose.orientation
+            tilt = math.acos(max(-1.0, min(1.0, 1.0 - 2.0 * (q.x * q.x + q.y * q.y))))
+            p = m.pose.pose.position
+            s.pelvis.append((stamp_seconds(m.header.stamp), p.x, p.y, p.z, tilt))
+
+        def on_reference(m):
+            if len(m.zmp_x):
+                t = stamp_seconds(m.header.stamp)
+                s.bounds.append((t, m.zmp_min_x[0], m.zmp_min_y[0], m.zmp_max_x[0],
+                                 m.zmp_max_y[0]))
+                s.zmp_reference.append((t, m.zmp_x[0], m.zmp_y[0]))
+
+        def on_diagnostics(m):
+            s.solve_times.append(m.solve_time)
+            s.controller_status.append(m.status)
+
+        node.create_subscription(Odometry, 'odom', on_odom, 50)
+        node.create_subscription(PointStamped, 'com', lambda m: s.com.append((
+            stamp_seconds(m.header.stamp), m.point.x, m.point.y, m.point.z)), 50)
+        node.create_subscription(PointStamped, 'zmp', lambda m: s.zmp.append((
+            stamp_seconds(m.header.stamp), m.point.x, m.point.y)), 50)
+        node.create_subscription(ReferenceTrajectory, 'reference_trajectory', on_reference, 50)
+        node.create_subscription(WalkingState, 'walking_state', lambda m: s.states.append((
+            stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen, m.reason)), 50)
+        node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
+                                 on_diagnostics, 50)
+        node.create_subscription(FootstepPlan, 'footstep_plan', s.plans.append, latched)
+        node.create_subscription(PathMsg, 'plan', lambda m: setattr(s, 'path', [
+            (p.pose.position.x, p.pose.position.y) for p in m.poses]), latched)
+
+    # --- waiting ----------------------------------------------------------------------------
+    def spin_until(self, predicate: Callable[[], bool], timeout: float,
+                   what: str = 'condition') -> bool:
+        """Spin until predicate() holds (True) or timeout s of wall time pass (False)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            self.graph.check_alive()
+            if predicate():
+                return True
+            self.executor.spin_once(timeout_sec=0.02)
+        return predicate()
+
+    def wait_for_nodes_on(self, topic: str, nodes, timeout: float = 15.0) -> None:
+        """Wait until each named node subscribes to topic (counting subscribers is not enough:
+        this session's own recorder subscribes too, and discovery takes up to seconds)."""
+        def subscribed() -> bool:
+            names = {info.node_name for info in self.node.get_subscriptions_info_by_topic(topic)}
+            return set(nodes) <= names
+        if not self.spin_until(subscribed, timeout):
+            raise TimeoutError(f'{sorted(nodes)} not subscribed to {topic} after {timeout} s')
+
+    def sim_time(self) -> float:
+        return self.series.pelvis[-1][0] if self.series.pelvis else 0.0
+
+    def wait_sim_time(self, seconds: float, timeout: float) -> bool:
+        end = self.sim_time() + seconds
+        return self.spin_until(lambda: self.sim_time() >= end, timeout)
+
+    def wait_until_ready(self, timeout: float = 60.0) -> None:
+        """Every node talks: the controller answers and references flow."""
+        ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and
+                             self.series.states and self.series.bounds, timeout)
+        if not ok:
+            raise TimeoutError(f'graph not ready after {timeout} s (controller cycles: '
+                               f'{len(self.series.solve_times)}, states: '
+                               f'{len(self.series.states)}, references: '
+                               f'{len(self.series.bounds)})')
+
+    def phase(self) -> Optional[int]:
+        return self.series.states[-1][1] if self.series.states else None
+
+    def fallen(self) -> bool:
+        return any(state[3] for state in self.series.states)
+
+    # --- user actions -----------------------------------------------------------------------
+    def publish_map(self, grid) -> None:
+        from biped_planner.nodes.conversions import grid_to_msg
+        self.map_pub.publish(grid_to_msg(grid, 'map', self.node.get_clock().now().to_msg()))
+        self.wait_for_nodes_on('/map', ('footstep_planner', 'simulator'))
+
+    def send_goal(self, x: float, y: float, yaw: float) -> None:
+        from geometry_msgs.msg import PoseStamped
+        msg = PoseStamped()
+        msg.header.frame_id = 'map'
+        msg.header.stamp = self.node.get_clock().now().to_msg()
+        msg.pose.position.x, msg.pose.position.y = x, y
+        msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        self.wait_for_nodes_on('/goal_pose', ('footstep_planner', 'state_machine'))
+        self.goal_pub.publish(msg)
+
+    def send_command(self, **fields) -> None:
+        from biped_msgs.msg import WalkCommand
+        self.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
+        self.command_pub.publish(WalkCommand(**fields))
+
+    def send_velocity(self, vx: float = 0.0, vy: float = 0.0, wz: float = 0.0) -> None:
+        from geometry_msgs.msg import Twist
+        msg = Twist()
+        msg.linear.x, msg.linear.y, msg.angular.z = vx, vy, wz
+        self.wait_for_nodes_on('/cmd_vel', ('footstep_planner', 'state_machine'))
+        self.cmd_vel_pub.publish(msg)
+
+    def push(self, fx: float, fy: float = 0.0, duration: float = 0.1) -> bool:
+        from biped_msgs.srv import Push
+        request = Push.Request()
+        request.force.x, request.force.y, request.duration = fx, fy, duration
+        if not self.push_client.wait_for_service(timeout_sec=10.0):
+            raise TimeoutError('push service not available')
+        future = self.push_client.call_async(request)
+        self.spin_until(future.done, 10.0)
+        return future.done() and future.result().success
+
+    def set_terrain(self, **fields) -> bool:
+        from biped_msgs.srv import SetTerrain
+        if not self.terrain_client.wait_for_service(timeout_sec=10.0):
+            raise TimeoutError('set_terrain service not available')
+        future = self.terrain_client.call_async(SetTerrain.Request(**fields))
+        self.spin_until(future.done, 30.0)
+        return future.done() and future.result().success
