@@ -46,6 +46,7 @@ import numpy as np
 
 from biped_sim.errors import ConfigError
 from biped_sim.external_push import ExternalPush
+from biped_sim.joint_servo import step_toward
 
 PELVIS_GROUND_TRUTH = 'ground_truth'
 PELVIS_IMU_KINEMATICS = 'imu_kinematics'
@@ -415,16 +416,9 @@ class ClosedLoopRunner:
         """Send the setpoints over one control period (interpolated if asked) to the backend."""
         params = self.params
         velocities = output.joint_velocities if params.feed_joint_velocities else None
-        parts = params.setpoint_interpolation
         target = np.asarray(output.joint_setpoints, dtype=float)
-        if parts == 1 or self._substeps % parts != 0 or self._last_setpoints is None:
-            readings = self.backend.step(target, self._substeps, joint_velocities=velocities)
-        else:
-            start = self._last_setpoints
-            for part in range(1, parts + 1):
-                readings = self.backend.step(start + (target - start) * part / parts,
-                                             self._substeps // parts,
-                                             joint_velocities=velocities)
+        readings = step_toward(self.backend, self._last_setpoints, target, self._substeps,
+                               params.setpoint_interpolation, velocities)
         self._last_setpoints = target.copy()
         return readings
 
