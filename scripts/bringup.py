@@ -67,6 +67,8 @@ class GraphOptions:
     :param backend: simulator backend ('pybullet' or 'model')
     :param gui: open the simulator's GUI window
     :param use_sim_time: every node follows the simulator's /clock
+    :param keep_going: when a node dies, report it and keep the others running (to test how
+        the graph copes); by default the whole graph stops
     """
 
     nodes: List[str]
@@ -76,6 +78,7 @@ class GraphOptions:
     backend: str = 'pybullet'
     gui: bool = False
     use_sim_time: bool = False
+    keep_going: bool = False
 
 
 class NodeGraph:
@@ -94,6 +97,7 @@ class NodeGraph:
         self.processes: Dict[str, subprocess.Popen] = {}
         self._threads: List[threading.Thread] = []
         self._stopping = False
+        self._reported_dead = set()
 
     def environment(self) -> dict:
         env = dict(os.environ)
@@ -176,12 +180,17 @@ class NodeGraph:
         return None
 
     def check_alive(self) -> None:
-        """:raises RuntimeError: naming the node that died and its exit status."""
-        name = self.dead_node()
-        if name is not None and not self._stopping:
-            code = self.processes[name].returncode
+        """:raises RuntimeError: naming the node that died and its exit status (unless
+            keep_going, which only reports it)."""
+        for name, process in self.processes.items():
+            if process.poll() is None or self._stopping or name in self._reported_dead:
+                continue
+            code = process.returncode
             how = f'signal {-code}' if code < 0 else f'exit code {code}'
-            raise RuntimeError(f'node {name} died ({how}); stopping the graph')
+            if not self.options.keep_going:
+                raise RuntimeError(f'node {name} died ({how}); stopping the graph')
+            self._reported_dead.add(name)
+            self.log(f'[bringup] node {name} died ({how}); the others keep running')
 
     def stop(self, grace: float = 5.0) -> None:
         """SIGINT to every node, then SIGKILL to those still running after grace seconds."""
@@ -237,6 +246,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--gui', action='store_true', help='open the simulator window')
     parser.add_argument('--sim-time', action='store_true',
                         help='every node follows the simulator\'s /clock')
+    parser.add_argument('--keep-going', action='store_true',
+                        help='when a node dies, keep the others running')
     parser.add_argument('--timeout', type=float, default=30.0,
                         help='seconds to wait for all nodes to come up')
     return parser
@@ -250,7 +261,8 @@ def main(argv=None) -> int:
     options = GraphOptions(nodes=args.nodes or available_nodes(),
                            params_files=parse_params_files(args.params_file),
                            overrides=parse_overrides(args.param), domain_id=args.domain_id,
-                           backend=args.backend, gui=args.gui, use_sim_time=args.sim_time)
+                           backend=args.backend, gui=args.gui, use_sim_time=args.sim_time,
+                           keep_going=args.keep_going)
     stop = threading.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda *_: stop.set())

@@ -158,3 +158,27 @@ def test_non_finite_cmd_vel_is_ignored(graph):
     graph['clock'].advance(0.3)
     assert not spin_until(graph['executor'], lambda: len(graph['plans'].messages) > count, 0.5)
     assert graph['states'].messages[-1].phase == WalkingState.IDLE
+
+
+def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, executor):
+    """Only the state machine and a fake planner's single continuous plan: no extension comes."""
+    from biped_msgs.msg import Footstep
+    node = executor.track(StateMachineNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True), Parameter('plan_timeout', value=1.0)]))
+    client = executor.track(rclpy.create_node('silent_planner', context=ros_context))
+    clock = SimClock(client, executor)
+    states = Collector(client, WalkingState, 'walking_state', 100)
+    plans = client.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
+    commands = client.create_publisher(WalkCommand, 'walk_command', 10)
+    assert wait_for_subscribers(executor, commands) and wait_for_subscribers(executor, plans)
+    assert wait_for_subscribers(executor, clock.publisher)
+    feet = [Footstep(side=i % 2, x=0.0, y=0.07 if i % 2 == 0 else -0.07) for i in range(6)]
+    commands.publish(WalkCommand(command=WalkCommand.START))
+    clock.advance(0.1)
+    plans.publish(FootstepPlan(plan_id=1, continuous=True, footsteps=feet, single_support=0.4,
+                               double_support=0.2))
+    clock.advance(6.0)
+    last = states.messages[-1]
+    assert last.phase == WalkingState.IDLE and last.inputs_stale
+    assert last.step_index == 4  # the 4 steps of the last plan, then stop
+    assert node.phase.name == 'IDLE'

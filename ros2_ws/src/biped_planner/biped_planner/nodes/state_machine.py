@@ -34,6 +34,7 @@ FALL_SPECS = {
     'min_base_height': ('pelvis height below which the robot has fallen (m)', (0.05, 2.0)),
     'max_tilt': ('torso tilt above which the robot has fallen (rad)', (0.001, 1.5708)),
 }
+WALKING = (Phase.INITIALIZE, Phase.SINGLE_SUPPORT, Phase.DOUBLE_SUPPORT)
 LIMIT_SPECS = {
     'max_step_length': ('largest |step_length| of an OMNI command (m)', (0.01, 1.0)),
     'max_step_width': ('largest |step_width| of an OMNI command (m)', (0.01, 1.0)),
@@ -65,9 +66,13 @@ class StateMachineNode(Node):
         self.declare_parameter('publish_rate', 50.0)
         self.declare_parameter('update_rate', 200.0)
         self.declare_parameter('fall_detection', True)
+        # A teleop plan is republished every step; silence this long means the planner is gone.
+        self.declare_parameter('plan_timeout', 2.0)
 
         self._machine = WalkingStateMachine(params)
         self._plan_id = 0
+        self._continuous_plan = None  # (arrival time, steps in it) of a teleop plan
+        self._stale = False
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
         self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
         self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
@@ -89,7 +94,7 @@ class StateMachineNode(Node):
 
     def _publish(self, status, now: float) -> None:
         self._state_pub.publish(walking_state_msg(
-            status, now, self.get_clock().now().to_msg(), self._plan_id, inputs_stale=False))
+            status, now, self.get_clock().now().to_msg(), self._plan_id, inputs_stale=self._stale))
         self._last_publish = now
 
     def _publish_transitions(self, transitions, now: float) -> None:
@@ -145,6 +150,9 @@ class StateMachineNode(Node):
         else:
             self._plan_id = msg.plan_id
             steps = None if msg.continuous else max(0, len(msg.footsteps) - 2)
+            self._continuous_plan = (now, max(0, len(msg.footsteps) - 2)) if msg.continuous \
+                else None
+            self._stale = False
             first = Support(msg.footsteps[0].side) if msg.footsteps and \
                 msg.footsteps[0].side in (0, 1) else None
             try:
@@ -181,8 +189,21 @@ class StateMachineNode(Node):
             now = self._now()
             self._publish_transitions(self._machine.report_fall(now, reason), now)
 
+    def _check_plan_alive(self, now: float) -> None:
+        """End a teleop walk where its last plan ends when the planner falls silent."""
+        if self._continuous_plan is None or self.phase not in WALKING:
+            return
+        arrived, steps = self._continuous_plan
+        if now - arrived > self.get_parameter('plan_timeout').value:
+            self.get_logger().error(f'no footstep plan for {now - arrived:.1f} s: the planner is '
+                                    f'silent; ending the walk after step {steps}')
+            self._machine.set_plan(steps, planned=True)
+            self._continuous_plan = None
+            self._stale = True
+
     def _on_update(self) -> None:
         now = self._now()
+        self._check_plan_alive(now)
         transitions = self._machine.update(now)
         self._publish_transitions(transitions, now)
         if not transitions and (self._last_publish is None or now < self._last_publish or
