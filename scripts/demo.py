@@ -60,6 +60,7 @@ def run(out: Path, domain_id: int, model: str, timeout: float, log=print) -> dic
         'steps_planned': len(plan.footsteps) - 2,
         'steps_walked': max(s[2] for s in series.states),
         'simulated_s': round(sim_duration, 2), 'wall_s': round(wall, 1),
+        'goal_sent_at_sim_s': round(t0, 3), 'ended_at_sim_s': round(pelvis[0], 3),
         'zmp_inside_support_fraction': round(zmp_inside_fraction(series, margin=0.01), 3),
         'max_tilt_deg': round(max(p[4] for p in series.pelvis) * 57.2958, 2),
         'mpc_solve_time_median_us': round(statistics.median(solve) * 1e6, 1) if solve else None,

@@ -29,7 +29,7 @@ ALL_NODES = ['simulator', 'state_machine', 'footstep_planner', 'reference_genera
 class RunSeries:
     """Time series of one run, each a list of tuples (sim time first)."""
 
-    pelvis: List[tuple] = field(default_factory=list)        # t, x, y, z, tilt
+    pelvis: List[tuple] = field(default_factory=list)        # t, x, y, z, tilt, yaw
     com: List[tuple] = field(default_factory=list)           # t, x, y, z
     zmp: List[tuple] = field(default_factory=list)           # t, x, y (measured, F/T)
     bounds: List[tuple] = field(default_factory=list)        # t, x_min, y_min, x_max, y_max
@@ -50,12 +50,13 @@ class GraphSession:
 
     def __init__(self, domain_id: int, bag_dir: Optional[Path] = None, nodes=None,
                  overrides=None, backend: str = 'pybullet', gui: bool = False,
-                 log=print) -> None:
+                 keep_going: bool = False, log=print) -> None:
         self.log = log
         self.domain_id = domain_id
         self.graph = NodeGraph(GraphOptions(
             nodes=list(nodes or ALL_NODES), overrides=dict(overrides or {}),
-            domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True),
+            domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
+            keep_going=keep_going),
             log=log)
         self.bag_dir = bag_dir
         self.series = RunSeries()
@@ -127,7 +128,8 @@ class GraphSession:
             q = m.pose.pose.orientation
             tilt = math.acos(max(-1.0, min(1.0, 1.0 - 2.0 * (q.x * q.x + q.y * q.y))))
             p = m.pose.pose.position
-            s.pelvis.append((stamp_seconds(m.header.stamp), p.x, p.y, p.z, tilt))
+            yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+            s.pelvis.append((stamp_seconds(m.header.stamp), p.x, p.y, p.z, tilt, yaw))
 
         def on_reference(m):
             if len(m.zmp_x):
