@@ -75,14 +75,14 @@ class GraphSession:
 
     def start(self, timeout: float = 60.0) -> None:
         import rclpy
-        from rclpy.executors import SingleThreadedExecutor
+        from biped_planner.nodes.node_runner import make_executor
         self.graph.start()
         self.graph.wait_until_up(timeout)
         self._context = rclpy.Context()
         rclpy.init(context=self._context, domain_id=self.domain_id)
         self.node = rclpy.create_node('graph_session', context=self._context, parameter_overrides=[
             rclpy.parameter.Parameter('use_sim_time', value=True)])
-        self.executor = SingleThreadedExecutor(context=self._context)
+        self.executor = make_executor(context=self._context)
         self.executor.add_node(self.node)
         self._make_endpoints()
         if self.bag_dir is not None:

@@ -95,8 +95,9 @@ class SimulatorNode(Node):
         self.create_service(SetTerrain, 'set_terrain', self._on_set_terrain)
         self._readings = self._reset_robot()
         self._publish(self._readings)
-        # Polls at 1 kHz of wall time: real-time steps, and the lockstep timeout.
-        self.create_timer(0.001, self._on_timer, clock=self._wall)
+        # Polls at 200 Hz of wall time: real-time steps and the lockstep timeout (each wake-up
+        # of an rclpy executor costs a wait-set rebuild; lockstep steps in the command callback).
+        self.create_timer(0.005, self._on_timer, clock=self._wall)
         self.get_logger().info(
             f'{self.get_parameter("backend").value} simulator ready: {len(self._names)} joints, '
             f'{"lockstep" if self._lockstep() else "real time"}')
