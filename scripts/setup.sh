@@ -53,6 +53,17 @@ if [ "$(cat "$STAMPS/requirements" 2>/dev/null)" != "$req_hash" ]; then
   echo "$req_hash" > "$STAMPS/requirements"
   rm -f "$STAMPS/build"
 fi
+# Optional extras, e.g. BIPED_EXTRAS=robots: other humanoids (example-robot-data, 440 MB).
+for extra in ${BIPED_EXTRAS:-}; do
+  file="$ROOT/requirements-$extra.txt"
+  [ -f "$file" ] || { echo "[setup] error: no $file for BIPED_EXTRAS=$extra" >&2; exit 1; }
+  extra_hash=$(sha1sum "$file" | cut -d' ' -f1)
+  if [ "$(cat "$STAMPS/extra-$extra" 2>/dev/null)" != "$extra_hash" ]; then
+    log "installing the $extra extra"
+    "$VENV/bin/python" -m pip install -q --disable-pip-version-check -r "$file"
+    echo "$extra_hash" > "$STAMPS/extra-$extra"
+  fi
+done
 
 # 2. colcon build (symlinked Python sources: editing a .py file needs no rebuild)
 src_hash=$( (cd "$WS/src" && find . -type f ! -name '*.pyc' ! -path '*/__pycache__/*' \

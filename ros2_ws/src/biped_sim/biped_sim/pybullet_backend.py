@@ -16,6 +16,9 @@ PyBullet's implicit position motors, a robust fallback.
 The ankle F/T joints report, in PyBullet, the force and torque the parent applies on the child
 link, in the child's inertial frame, about the child's centre of mass; this module turns them
 into sensor-frame readings and ground reactions (see :class:`biped_sim.sensors.FootForceTorque`).
+A robot without ankle F/T joints (RobotDescription.ft_joints == ()) is read from the contact
+points of its feet (the links below the ankle roll joints) instead: the ground reaction is their
+sum, and the foot's "sensor" is a virtual one at the sole frame with no foot mass below it.
 """
 
 from dataclasses import dataclass
@@ -223,6 +226,8 @@ class PyBulletBackend(SimulatorBackend):
         self._effort_limit = np.array([effort[j] for j in self._actuated_index])
         self._link_index = link_by_name
         self._ft_index = [by_name[n] for n in desc.ft_joints]
+        # The foot is what hangs below the F/T sensor, or below the ankle roll joint without one.
+        foot_roots = self._ft_index or [leg[5], leg[11]]
         self._sole_index = [link_by_name[n] for n in desc.sole_frames]
         self._imu_index = link_by_name[desc.imu_link]
         for j in self._ft_index:
@@ -238,11 +243,12 @@ class PyBulletBackend(SimulatorBackend):
         self._base_inertial_is_identity = bool(
             np.allclose(self._base_inertial_position, 0.0, atol=1e-12)
             and np.allclose(self._base_inertial_orientation, (0.0, 0.0, 0.0, 1.0), atol=1e-12))
-        # Links below each F/T joint (the foot side) and their masses.
+        # Links of each foot (below its F/T joint or ankle roll joint) and their masses.
         self._below_ft = []
-        for j in self._ft_index:
+        for j in foot_roots:
             subtree = [k for k in self._all_links if self._is_descendant(k, j, parents)]
             self._below_ft.append(np.array(subtree))
+        self._foot_side = {int(k): side for side, sub in enumerate(self._below_ft) for k in sub}
         for k in self._all_links:
             pybullet.changeDynamics(robot, k, linearDamping=0.0, angularDamping=0.0,
                                     physicsClientId=client)
@@ -471,10 +477,14 @@ class PyBulletBackend(SimulatorBackend):
         if config.gravity_compensation:
             if self._step_count % config.gravity_compensation_period == 0:
                 position, orientation = self._base_frame_pose()
-                ft = pybullet.getJointStates(robot, self._ft_index, physicsClientId=client)
-                # Normal force of each foot, with the foot's z axis taken as vertical.
-                contacts = tuple(-s[2][2] + m * config.gravity > config.contact_threshold
-                                 for s, m in zip(ft, self._ft_subtree_mass))
+                if self._ft_index:
+                    ft = pybullet.getJointStates(robot, self._ft_index, physicsClientId=client)
+                    # Normal force of each foot, with the foot's z axis taken as vertical.
+                    normal = [-s[2][2] + m * config.gravity
+                              for s, m in zip(ft, self._ft_subtree_mass)]
+                else:
+                    normal = self._contact_normal_forces()
+                contacts = tuple(f > config.contact_threshold for f in normal)
                 self._gravity_torque = self._gravity_compensation.torques(
                     position, orientation, q, contacts)
             tau += self._gravity_torque
@@ -583,8 +593,11 @@ class PyBulletBackend(SimulatorBackend):
         imu = ImuReading(imu_orientation, imu_rotation.T @ imu_angular,
                          imu_rotation.T @ (acceleration - self._gravity_vector))
 
-        ft_states = pybullet.getJointStates(robot, self._ft_index, physicsClientId=client)
-        feet = [self._foot_reading(i, ft_states[i][2], links) for i in (0, 1)]
+        if self._ft_index:
+            ft_states = pybullet.getJointStates(robot, self._ft_index, physicsClientId=client)
+            feet = [self._foot_reading(i, ft_states[i][2], links) for i in (0, 1)]
+        else:
+            feet = self._contact_foot_readings(links)
         normal = np.array([f.ground_force[2] if f.in_contact else 0.0 for f in feet])
         if normal.sum() > 0.0:
             zmp = (normal[0] * np.nan_to_num(feet[0].cop[:2])
@@ -618,6 +631,12 @@ class PyBulletBackend(SimulatorBackend):
         ground_force = -force_on_foot - weights.sum(axis=0)
         ground_torque = (-(torque_on_foot + _cross(child_com - sole_position, force_on_foot))
                          - _cross(centres - sole_position, weights).sum(axis=0))
+        return self._ground_reading(sensor_force, sensor_torque, ground_force, ground_torque,
+                                    sole_position, sole_rotation)
+
+    def _ground_reading(self, sensor_force, sensor_torque, ground_force, ground_torque,
+                        sole_position, sole_rotation) -> FootForceTorque:
+        """Complete a foot reading with its contact flag and centre of pressure."""
         local_force = sole_rotation.T @ ground_force
         local_torque = sole_rotation.T @ ground_torque
         in_contact = bool(local_force[2] > self._config.contact_threshold)
@@ -629,6 +648,51 @@ class PyBulletBackend(SimulatorBackend):
             cop = np.full(3, np.nan)
         return FootForceTorque(sensor_force, sensor_torque, ground_force, ground_torque, cop,
                                in_contact)
+
+    def _foot_contacts(self) -> list:
+        """Return per foot the contact points (n, 3) and the forces on the foot (n, 3), world.
+
+        getContactPoints with bodyA = the robot reports the normal on the other body pointing to
+        the robot, but not its friction on the robot: against the static ground, terrain and
+        obstacles the reported friction is the one on the other body (PyBullet keeps its internal
+        pair order), so the robot feels its opposite (a test pushes a robot to check the sign).
+        """
+        points, forces = ([], []), ([], [])
+        for contact in pybullet.getContactPoints(bodyA=self._robot,
+                                                 physicsClientId=self._client):
+            side = self._foot_side.get(contact[3])
+            if side is None or contact[2] == self._robot:
+                continue
+            points[side].append(contact[5])
+            forces[side].append(contact[9] * np.asarray(contact[7])
+                                - contact[10] * np.asarray(contact[11])
+                                - contact[12] * np.asarray(contact[13]))
+        return [(np.array(p, dtype=float).reshape(-1, 3), np.array(f, dtype=float).reshape(-1, 3))
+                for p, f in zip(points, forces)]
+
+    def _contact_normal_forces(self) -> list:
+        """Return the vertical ground force on each foot from its contact points (N)."""
+        normal = [0.0, 0.0]
+        for contact in pybullet.getContactPoints(bodyA=self._robot,
+                                                 physicsClientId=self._client):
+            side = self._foot_side.get(contact[3])
+            if side is not None and contact[2] != self._robot:
+                normal[side] += contact[9] * contact[7][2]
+        return normal
+
+    def _contact_foot_readings(self, links) -> list:
+        """Foot readings of a robot without F/T joints: a virtual sensor at each sole frame."""
+        feet = []
+        for side, (points, forces) in enumerate(self._foot_contacts()):
+            sole = self._sole_index[side]
+            sole_position = np.array(links[sole][4])
+            sole_rotation = _rotation(links[sole][5])
+            ground_force = forces.sum(axis=0)
+            ground_torque = _cross(points - sole_position, forces).sum(axis=0)
+            feet.append(self._ground_reading(
+                sole_rotation.T @ ground_force, sole_rotation.T @ ground_torque, ground_force,
+                ground_torque, sole_position, sole_rotation))
+        return feet
 
     # ----------------------------------------------------------------------------- scenery
     def add_terrain(self, terrain: Terrain, colour_bins: int = 8) -> list:

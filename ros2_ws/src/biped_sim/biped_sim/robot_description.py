@@ -77,7 +77,8 @@ class RobotDescription:
         hip yaw, hip roll, hip pitch, knee, ankle pitch, ankle roll.
     :param sole_frames: (left, right) links whose frames are at the sole centres, z up.
     :param imu_link: link of the IMU.
-    :param ft_joints: (left, right) fixed joints of the ankle force/torque sensors.
+    :param ft_joints: (left, right) fixed joints of the ankle force/torque sensors, or () for a
+        robot without them (the simulator then reads the feet's contact forces instead).
     :param sole_length: length of the foot sole along its x axis (m).
     :param sole_width: width of the foot sole along its y axis (m).
     :param nominal_joint_positions: standing pose, joint name -> angle (rad); joints not listed
@@ -103,9 +104,11 @@ class RobotDescription:
         if len(self.leg_joint_names) != 12 or len(set(self.leg_joint_names)) != 12:
             raise ConfigError('leg_joint_names = %r must be 12 distinct names'
                               % (self.leg_joint_names,))
-        for name in ('sole_frames', 'ft_joints'):
-            if len(getattr(self, name)) != 2:
-                raise ConfigError('%s = %r must be (left, right)' % (name, getattr(self, name)))
+        if len(self.sole_frames) != 2:
+            raise ConfigError('sole_frames = %r must be (left, right)' % (self.sole_frames,))
+        if len(self.ft_joints) not in (0, 2):
+            raise ConfigError('ft_joints = %r must be (left, right), or () without ankle F/T '
+                              'sensors' % (self.ft_joints,))
         for name in ('sole_length', 'sole_width'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
