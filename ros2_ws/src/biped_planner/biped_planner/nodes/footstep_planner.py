@@ -28,6 +28,7 @@ from biped_planner.nodes.conversions import (body_between, command_status_msg, f
                                              walk_command_from_msg)
 from biped_planner.nodes.node_runner import run_node
 from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.nodes.state_machine import LIMIT_SPECS
 from biped_planner.occupancy_grid import InflationParams
 from biped_planner.omnidirectional_stepper import command_from_twist, StepCommand, StepperParams
 from biped_planner.plan_session import PlanMode, PlanSession
@@ -62,14 +63,6 @@ STEPPER_SPECS = {
     'max_step_length': ('|X| bound of a teleop step (m)', (0.0, 1.0)),
     'max_step_width': ('|Y| bound of a teleop step (m)', (0.0, 1.0)),
     'max_step_angle': ('|alpha| bound of a teleop step (rad)', (0.0, 1.5708)),
-}
-LIMIT_SPECS = {
-    'max_step_length': ('largest |step_length| of an OMNI command (m)', (0.01, 1.0)),
-    'max_step_width': ('largest |step_width| of an OMNI command (m)', (0.01, 1.0)),
-    'max_step_angle': ('largest |step_angle| of an OMNI command (rad)', (0.01, 1.5)),
-    'min_step_time': ('shortest step_time a command may ask for (s)', (0.05, 10.0)),
-    'max_step_time': ('longest step_time a command may ask for (s)', (0.05, 10.0)),
-    'max_goal_distance': ('largest |goal_x|, |goal_y| of a GOTO command (m)', (1.0, 1e6)),
 }
 PLANNING_ERRORS = [
     (StartOutsideMapError, FootstepPlan.ERROR_START_OUTSIDE_MAP),
