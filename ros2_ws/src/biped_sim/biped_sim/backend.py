@@ -52,13 +52,16 @@ class SimulatorBackend(abc.ABC):
 
     @abc.abstractmethod
     def step(self, joint_setpoints: np.ndarray, n_substeps: Optional[int] = None,
-             joint_velocities: Optional[np.ndarray] = None) -> SensorReadings:
+             joint_velocities: Optional[np.ndarray] = None,
+             read_sensors: bool = True) -> Optional[SensorReadings]:
         """Track joint setpoints for n_substeps physics steps and return the readings.
 
         :param joint_setpoints: (len(joint_names),) angles of all actuated joints, or (12,)
             angles of the leg joints only (the other joints keep their last setpoints) (rad).
         :param n_substeps: physics steps to run; None runs one control period.
         :param joint_velocities: optional feed-forward joint speeds, same shape (rad/s).
+        :param read_sensors: read the sensors at the end (False: return None, to save the
+            readout of an intermediate part of a period).
         :return: the readings at the end of the last physics step.
         """
 

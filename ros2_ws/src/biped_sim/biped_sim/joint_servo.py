@@ -29,5 +29,6 @@ def step_toward(backend, previous: Optional[np.ndarray], target: np.ndarray, sub
     previous = np.asarray(previous, dtype=float)
     for part in range(1, parts + 1):
         readings = backend.step(previous + (target - previous) * part / parts,
-                                substeps // parts, joint_velocities=velocities)
+                                substeps // parts, joint_velocities=velocities,
+                                read_sensors=part == parts)
     return readings

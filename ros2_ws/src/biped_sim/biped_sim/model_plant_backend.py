@@ -290,12 +290,15 @@ class ModelPlantBackend(SimulatorBackend):
 
     # ----------------------------------------------------------------------------- stepping
     def step(self, joint_setpoints: np.ndarray, n_substeps: Optional[int] = None,
-             joint_velocities: Optional[np.ndarray] = None) -> SensorReadings:
+             joint_velocities: Optional[np.ndarray] = None,
+             read_sensors: bool = True) -> Optional[SensorReadings]:
         """Drive the masses towards the pose of the leg setpoints for n_substeps steps.
 
         :param joint_setpoints: (12,) leg angles (rad)
         :param n_substeps: physics steps, >= 1; None runs a control period
         :param joint_velocities: ignored (the plant follows positions), same shape if given
+        :param read_sensors: read the sensors at the end (False: return None, to save the
+            readout of an intermediate part of a period).
         :return: the readings at the end
         :raises ConfigError: for a wrong shape, NaN/inf or n_substeps < 1
         """
@@ -323,7 +326,7 @@ class ModelPlantBackend(SimulatorBackend):
             self._count += 1
         self._pelvis_target = pelvis
         self._set_support()
-        return self.sensors()
+        return self.sensors() if read_sensors else None
 
     def _update_contacts(self, relative: tuple) -> None:
         """Latch a sole that reaches the ground where its swing put it; release a lifted one."""

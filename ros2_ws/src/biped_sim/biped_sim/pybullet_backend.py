@@ -416,13 +416,16 @@ class PyBulletBackend(SimulatorBackend):
 
     # ----------------------------------------------------------------------------- stepping
     def step(self, joint_setpoints: np.ndarray, n_substeps: Optional[int] = None,
-             joint_velocities: Optional[np.ndarray] = None) -> SensorReadings:
+             joint_velocities: Optional[np.ndarray] = None,
+             read_sensors: bool = True) -> Optional[SensorReadings]:
         """Track joint setpoints for n_substeps physics steps and return the readings.
 
         :param joint_setpoints: (len(joint_names),) angles of all actuated joints, or (12,)
             leg angles only (the other joints keep their setpoints) (rad).
         :param n_substeps: physics steps to run, >= 1; None runs config.control_substeps.
         :param joint_velocities: optional feed-forward joint speeds, same shape (rad/s).
+        :param read_sensors: read the sensors at the end (False: return None, to save the
+            readout of an intermediate part of a period).
         :return: the readings at the end of the last physics step.
         :raises ConfigError: for a wrong shape, NaN/inf or n_substeps < 1.
         """
@@ -453,7 +456,7 @@ class PyBulletBackend(SimulatorBackend):
                 self._apply_pushes()
             pybullet.stepSimulation(physicsClientId=self._client)
             self._step_count += 1
-        return self.sensors()
+        return self.sensors() if read_sensors else None
 
     def _apply_position_motors(self) -> None:
         """In position mode, send the setpoints to PyBullet's position motors."""

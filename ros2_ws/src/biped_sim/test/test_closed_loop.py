@@ -199,17 +199,19 @@ def test_setpoints_are_sent_as_a_ramp_over_the_period(robot):
     calls, outputs = [], []
     step = backend.step
 
-    def spy(setpoints, n_substeps=None, joint_velocities=None):
-        calls.append((np.array(setpoints), n_substeps))
-        return step(setpoints, n_substeps, joint_velocities)
+    def spy(setpoints, n_substeps=None, joint_velocities=None, read_sensors=True):
+        calls.append((np.array(setpoints), n_substeps, read_sensors))
+        return step(setpoints, n_substeps, joint_velocities, read_sensors)
 
     backend.step = spy
     runner.run(0.04, on_cycle=lambda t, window, output, readings: outputs.append(output))
     # First cycle: no previous setpoints, one call; second: four calls of 5 physics steps
     # on the straight line from the first setpoints to the second.
-    assert [n for _, n in calls] == [20, 5, 5, 5, 5]
+    assert [n for _, n, _ in calls] == [20, 5, 5, 5, 5]
+    # only the end of a period is read out: intermediate sensor readouts would be wasted
+    assert [read for _, _, read in calls] == [True, False, False, False, True]
     first, second = outputs[0].joint_setpoints, outputs[1].joint_setpoints
-    for part, (setpoints, _) in enumerate(calls[1:], start=1):
+    for part, (setpoints, _, _) in enumerate(calls[1:], start=1):
         np.testing.assert_allclose(setpoints, first + (second - first) * part / 4, atol=1e-12)
     np.testing.assert_allclose(calls[-1][0], second)
 
