@@ -8,6 +8,7 @@ import numpy as np
 from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.linear_model import (
     LinearModel, N_INPUTS, N_OUTPUTS, N_PLANES, N_STATES, OUTPUT_ZMP)
+from biped_mpc.validation import finite_array
 
 
 @dataclass(frozen=True)
@@ -107,7 +108,7 @@ class ModelPlant:
         :return: the measurement at that state
         :raises InputError: if the state has a wrong shape or is not finite
         """
-        self._state = _checked('state', state, (N_PLANES, N_STATES)).copy()
+        self._state = finite_array('state', state, (N_PLANES, N_STATES)).copy()
         if not isinstance(t, (int, float)) or not math.isfinite(t):
             raise InputError(f't must be a finite number (s), got {t!r}')
         self._t = float(t)
@@ -151,7 +152,7 @@ class ModelPlant:
         :return: the measurement at the end of the step
         :raises InputError: for wrong shapes or non-finite values
         """
-        u = _checked('jerk', jerk, (N_PLANES, N_INPUTS))
+        u = finite_array('jerk', jerk, (N_PLANES, N_INPUTS))
         if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt <= 0.0:
             raise InputError(f'dt must be a finite number > 0 (s), got {dt!r}')
         discrete = self._discrete.get(dt)
@@ -160,7 +161,7 @@ class ModelPlant:
             self._discrete[dt] = discrete
         state = self._state @ discrete.a.T + u @ discrete.b.T
         if external_force is not None:
-            force = _checked('external_force', external_force, (N_PLANES,))
+            force = finite_array('external_force', external_force, (N_PLANES,))
             state += force[:, None] * discrete.force_input[None, :]
         self._state = state
         self._t += dt
@@ -182,12 +183,3 @@ class ModelPlant:
         return PlantMeasurement(t=self._t, outputs=outputs, true_outputs=true_outputs,
                                 state=self._state.copy(), zmp_fictitious=fictitious,
                                 zmp_real=real)
-
-
-def _checked(name: str, value, shape: tuple) -> np.ndarray:
-    array = np.asarray(value, dtype=float)
-    if array.shape != shape:
-        raise InputError(f'{name} must have shape {shape}, got {array.shape}')
-    if not np.isfinite(array).all():
-        raise InputError(f'{name} must be finite, got {array.tolist()}')
-    return array

@@ -9,6 +9,7 @@ from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.linear_model import (
     DiscreteLinearModel, N_INPUTS, N_MASSES, N_OUTPUTS, N_PLANES, N_STATES, state_index,
     VELOCITY)
+from biped_mpc.validation import finite_array
 
 
 @dataclass(frozen=True)
@@ -106,7 +107,7 @@ class StateEstimator:
         :param state: initial estimate x(0|-1) per plane, shape (2, 9)
         :raises InputError: if state has a wrong shape or is not finite
         """
-        self._state = _checked('state', state, (N_PLANES, N_STATES)).copy()
+        self._state = finite_array('state', state, (N_PLANES, N_STATES)).copy()
         self._covariance = self.params.initial_std ** 2 * np.eye(N_STATES)
 
     @property
@@ -128,7 +129,7 @@ class StateEstimator:
         :return: the corrected estimate x(k|k), shape (2, 9)
         :raises InputError: if the measurement has a wrong shape or is not finite
         """
-        y = _checked('measurement', measurement, (N_PLANES, N_OUTPUTS))
+        y = finite_array('measurement', measurement, (N_PLANES, N_OUTPUTS))
         c = self.model.c
         if self.params.steady_state:
             gain = self.steady_gain
@@ -151,22 +152,13 @@ class StateEstimator:
         :return: the predicted estimate x(k+1|k), shape (2, 9)
         :raises InputError: if an input has a wrong shape or is not finite
         """
-        u = _checked('jerk', jerk, (N_PLANES, N_INPUTS))
+        u = finite_array('jerk', jerk, (N_PLANES, N_INPUTS))
         model = self.model
         self._state = self._state @ model.a.T + u @ model.b.T
         if force is not None:
-            f = _checked('force', force, (N_PLANES,))
+            f = finite_array('force', force, (N_PLANES,))
             self._state += f[:, None] * model.force_input[None, :]
         if not self.params.steady_state:
             self._covariance = (model.a @ self._covariance @ model.a.T
                                 + self.process_covariance)
         return self._state.copy()
-
-
-def _checked(name: str, value, shape: tuple) -> np.ndarray:
-    array = np.asarray(value, dtype=float)
-    if array.shape != shape:
-        raise InputError(f'{name} must have shape {shape}, got {array.shape}')
-    if not np.isfinite(array).all():
-        raise InputError(f'{name} must be finite, got {array.tolist()}')
-    return array
