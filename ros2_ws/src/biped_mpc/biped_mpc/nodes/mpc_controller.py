@@ -10,17 +10,21 @@ Publishes: joint_commands (sensor_msgs/JointState: the 12 leg setpoints, stamped
 time they answer), controller_diagnostics (biped_msgs/ControllerDiagnostics), sole_poses
 (geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to).
 
+Lockstep: a period is computed once its reference (stamped with the same sensor time) is in, or
+after reference_wait of wall time without it.
 Safety: when the references are older than stale_timeout (the planner or reference generator
 died or lags), the controller holds a safe stance: both feet on the ground where they are and
 the hip between them, reported as HOLDING. Malformed messages are logged and skipped.
 """
 import dataclasses
 import math
+import time
 
 from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory
 from geometry_msgs.msg import PointStamped, Pose, PoseArray, WrenchStamped
 from nav_msgs.msg import Odometry
 import numpy as np
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, JointState
 
@@ -90,6 +94,7 @@ class MpcControllerNode(Node):
         self._robot = coman_like()
         self.declare_parameter('solver', 'daqp')
         for name, default in (('contact_force', 15.0), ('stale_timeout', 0.3),
+                              ('reference_wait', 0.1),
                               ('foot_length', 0.2), ('foot_width', 0.1)):
             self.declare_parameter(name, default)
         get = lambda name: self.get_parameter(name).value  # noqa: E731
@@ -105,6 +110,7 @@ class MpcControllerNode(Node):
         self._reference = None
         self._sensors = {}
         self._last_cycle = None
+        self._pending = None  # (sensor stamp, wall time) of a complete period not yet computed
         self._last_output = None
         self._started = False
         self._command_pub = self.create_publisher(JointState, 'joint_commands', 10)
@@ -121,6 +127,9 @@ class MpcControllerNode(Node):
                                 (JointState, 'joint_states')):
             self.create_subscription(msg_type, topic,
                                      lambda msg, topic=topic: self._on_sensor(topic, msg), 10)
+        # wall clock: with sim time, a ROS timer would wait for the very clock we hold up
+        self.create_timer(0.005, self._on_wait_timer,
+                          clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
                                f'{self._params.mpc.n_predict})')
 
@@ -130,6 +139,8 @@ class MpcControllerNode(Node):
             self._reference = window_from_reference_msg(msg)
         except ValueError as error:
             self.get_logger().error(f'reference rejected: {error}', throttle_duration_sec=2.0)
+            return
+        self._try_cycle()
 
     def _on_sensor(self, topic: str, msg) -> None:
         self._sensors[topic] = msg
@@ -138,7 +149,27 @@ class MpcControllerNode(Node):
         if len(self._sensors) == len(SENSOR_TOPICS) and len(stamps) == 1 and \
                 stamps != {self._last_cycle}:
             self._last_cycle = stamps.pop()
+            self._pending = (stamp_seconds(msg.header.stamp), time.monotonic())
+            self._try_cycle()
+
+    def _try_cycle(self, force: bool = False) -> None:
+        """Run the pending period once its reference is in (or when told to stop waiting).
+
+        Waiting for the reference of the same time puts the reference generator in the
+        lockstep too: under load a lagging reference would otherwise be used shifted and padded.
+        """
+        if self._pending is None:
+            return
+        t = self._pending[0]
+        fresh = self._reference is not None and self._reference.t[0] >= t - 1e-6
+        if fresh or force:
+            self._pending = None
             self._control_cycle()
+
+    def _on_wait_timer(self) -> None:
+        if self._pending is not None and \
+                time.monotonic() - self._pending[1] > self.get_parameter('reference_wait').value:
+            self._try_cycle(force=True)
 
     # --- control cycle ----------------------------------------------------------------------
     def _feedback(self) -> ControllerFeedback:
