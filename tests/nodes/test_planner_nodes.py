@@ -182,3 +182,28 @@ def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, ex
     assert last.phase == WalkingState.IDLE and last.inputs_stale
     assert last.step_index == 4  # the 4 steps of the last plan, then stop
     assert node.phase.name == 'IDLE'
+
+
+def test_with_a_planner_running_a_start_waits_for_the_plan(ros_context, executor):
+    """Initialize shifts the COM to the plan's first support foot: no plan, no start."""
+    from biped_msgs.msg import Footstep
+    executor.track(StateMachineNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True)]))
+    client = executor.track(rclpy.create_node('slow_planner', context=ros_context))
+    clock = SimClock(client, executor)
+    states = Collector(client, WalkingState, 'walking_state', 100)
+    plans = client.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
+    commands = client.create_publisher(WalkCommand, 'walk_command', 10)
+    assert wait_for_subscribers(executor, commands) and wait_for_subscribers(executor, plans)
+    assert wait_for_subscribers(executor, clock.publisher)
+    commands.publish(WalkCommand(command=WalkCommand.START))
+    clock.advance(0.5)
+    assert states.messages[-1].phase == WalkingState.IDLE
+    plan_time = clock.t
+    feet = [Footstep(side=i % 2, y=0.07 if i % 2 == 0 else -0.07) for i in range(4)]
+    plans.publish(FootstepPlan(plan_id=1, footsteps=feet, single_support=0.4,
+                               double_support=0.2))
+    clock.advance(0.1)
+    walking = [s for s in states.messages if s.phase == WalkingState.INITIALIZE]
+    assert walking, 'the plan did not start the walk'
+    assert walking[0].walk_start_time >= plan_time - 1e-6

@@ -73,6 +73,10 @@ class StateMachineNode(Node):
         self._plan_id = 0
         self._continuous_plan = None  # (arrival time, steps in it) of a teleop plan
         self._stale = False
+        # A start waits for its plan when a planner runs: Initialize shifts the COM to the first
+        # support foot, which the plan names, and the walk's references start with the plan.
+        self._start_pending = None  # clock time of the start request
+        self._unwalked_plan = None  # plan_id of an OK plan no walk has started on yet
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
         self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
         self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
@@ -128,10 +132,10 @@ class StateMachineNode(Node):
             elif command.kind == CommandKind.RESET:
                 transitions += self._machine.reset(now)
             else:
-                if command.kind == CommandKind.START:
+                if command.kind == CommandKind.START and self._unwalked_plan is None:
                     # START walks in place (or along a plan that arrives): no step limit.
                     self._machine.set_plan(None)
-                transitions += self._machine.request_start(now)
+                transitions += self._request_start(now)
         except CommandError as error:
             self._answer(msg.command, CommandStatus.NOT_ALLOWED, str(error))
             return
@@ -142,12 +146,18 @@ class StateMachineNode(Node):
         now = self._now()
         transitions = self._machine.update(now)
         if msg.status != FootstepPlan.STATUS_OK:
+            if self._start_pending is not None:
+                self.get_logger().warning(f'plan failed ({msg.error_code}): {msg.error_msg}; '
+                                          'not starting')
+                self._start_pending = None
             # Only a walk still waiting for its plan stops; a running walk keeps its plan.
             if self._machine.status.phase == Phase.INITIALIZE:
                 self.get_logger().warning(f'plan failed ({msg.error_code}): {msg.error_msg}; '
                                           'back to Idle')
                 transitions += self._machine.request_stop(now)
         else:
+            if msg.plan_id != self._plan_id and self._machine.status.phase == Phase.IDLE:
+                self._unwalked_plan = msg.plan_id
             self._plan_id = msg.plan_id
             steps = None if msg.continuous else max(0, len(msg.footsteps) - 2)
             self._continuous_plan = (now, max(0, len(msg.footsteps) - 2)) if msg.continuous \
@@ -161,6 +171,9 @@ class StateMachineNode(Node):
                     self._machine.set_timing(msg.single_support, msg.double_support)
             except CommandError as error:
                 self.get_logger().warning(f'plan {msg.plan_id} ignored: {error}')
+            if self._start_pending is not None:
+                self._start_pending = None
+                transitions += self._start_walk(now)
         self._publish_transitions(transitions, now)
 
     def _on_goal(self, msg: PoseStamped) -> None:
@@ -178,7 +191,25 @@ class StateMachineNode(Node):
     def _start_from_idle(self) -> None:
         if self._machine.status.phase == Phase.IDLE:
             now = self._now()
-            self._publish_transitions(self._machine.request_start(now), now)
+            self._publish_transitions(self._request_start(now), now)
+
+    def _request_start(self, now: float):
+        """Start now when there is no planner or its plan is in; else when the plan arrives."""
+        planner_runs = self.count_publishers('footstep_plan') > 0
+        if self._machine.status.phase != Phase.IDLE or not planner_runs or \
+                self._unwalked_plan is not None:
+            self._start_pending = None
+            return self._start_walk(now)
+        if self._start_pending is None:
+            self.get_logger().info('start requested: waiting for the footstep plan')
+        self._start_pending = now
+        return []
+
+    def _start_walk(self, now: float):
+        transitions = self._machine.request_start(now)
+        if transitions:
+            self._unwalked_plan = None
+        return transitions
 
     def _on_odometry(self, msg: Odometry) -> None:
         if not self.get_parameter('fall_detection').value:
