@@ -108,3 +108,18 @@ def test_malformed_joint_commands_are_rejected_and_the_node_keeps_running(sim):
     count = len(sim['clock'].messages)
     assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count + 3, timeout=10)
     assert 0.5 < sim['odom'].messages[-1].pose.pose.position.z < 0.6
+
+
+def test_odometry_twist_is_in_the_pelvis_frame_as_nav_msgs_specifies():
+    from types import SimpleNamespace
+    import numpy as np
+    from biped_sim.nodes.conversions import odometry_msg
+    yaw = np.pi / 2  # pelvis facing world +y, moving along world +y: forward in its own frame
+    base = SimpleNamespace(position=(0.0, 0.0, 0.54),
+                           orientation=(0.0, 0.0, np.sin(yaw / 2), np.cos(yaw / 2)),
+                           linear_velocity=(0.0, 0.3, 0.0), angular_velocity=(0.0, 0.0, 0.2))
+    msg = odometry_msg(base, 'map', 'pelvis', Odometry().header.stamp)
+    twist = msg.twist.twist
+    assert (twist.linear.x, twist.linear.y) == pytest.approx((0.3, 0.0), abs=1e-12)
+    assert twist.angular.z == pytest.approx(0.2)
+    assert (msg.header.frame_id, msg.child_frame_id) == ('map', 'pelvis')

@@ -32,8 +32,9 @@ from biped_mpc.errors import BipedMpcError
 from biped_mpc.linear_mpc import MpcParams
 from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.walking_controller import (COMAN_LIKE_MASSES, ControllerFeedback,
-                                          PELVIS_GROUND_TRUTH, STATUS_MPC_FALLBACK,
-                                          WalkingController, WalkingControllerParams)
+                                          PELVIS_GROUND_TRUTH, quaternion_matrix,
+                                          STATUS_MPC_FALLBACK, WalkingController,
+                                          WalkingControllerParams)
 from biped_planner.footsteps import Footstep, LEFT, RIGHT
 from biped_planner.nodes.conversions import window_from_reference_msg
 from biped_planner.nodes.node_runner import run_node
@@ -184,10 +185,12 @@ class MpcControllerNode(Node):
         if self._params.pelvis_source == PELVIS_GROUND_TRUTH:
             pose, twist = sensors['odom'].pose.pose, sensors['odom'].twist.twist
             q = pose.orientation
+            # nav_msgs/Odometry gives the twist in the pelvis frame; the controller wants world
+            velocity = quaternion_matrix(np.array([q.x, q.y, q.z, q.w])) @ np.array(
+                [twist.linear.x, twist.linear.y, twist.linear.z])
             return ControllerFeedback(
                 legs, (q.x, q.y, q.z, q.w), zmp, contacts,
-                (pose.position.x, pose.position.y, pose.position.z),
-                (twist.linear.x, twist.linear.y, twist.linear.z))
+                (pose.position.x, pose.position.y, pose.position.z), velocity)
         q = sensors['imu'].orientation
         return ControllerFeedback(legs, (q.x, q.y, q.z, q.w), zmp, contacts)
 

@@ -29,8 +29,18 @@ def imu_msg(imu, frame_id: str, stamp) -> Imu:
     return msg
 
 
+def rotation_matrix(q_xyzw) -> np.ndarray:
+    """Rotation matrix of a unit quaternion (x, y, z, w)."""
+    x, y, z, w = (float(v) for v in q_xyzw)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
 def odometry_msg(base, frame_id: str, child_frame_id: str, stamp) -> Odometry:
-    """Ground-truth pose and twist of the pelvis (twist in the world frame, as measured)."""
+    """Ground-truth pose of the pelvis in frame_id and its twist in the pelvis frame
+    (child_frame_id), as nav_msgs/Odometry specifies."""
     msg = Odometry()
     msg.header.stamp = stamp
     msg.header.frame_id = frame_id
@@ -39,10 +49,12 @@ def odometry_msg(base, frame_id: str, child_frame_id: str, stamp) -> Odometry:
     pose.position.x, pose.position.y, pose.position.z = (float(v) for v in base.position)
     (pose.orientation.x, pose.orientation.y, pose.orientation.z,
      pose.orientation.w) = (float(v) for v in base.orientation)
+    to_body = rotation_matrix(base.orientation).T
     twist = msg.twist.twist
-    twist.linear.x, twist.linear.y, twist.linear.z = (float(v) for v in base.linear_velocity)
+    twist.linear.x, twist.linear.y, twist.linear.z = (
+        float(v) for v in to_body @ np.asarray(base.linear_velocity, dtype=float))
     twist.angular.x, twist.angular.y, twist.angular.z = (
-        float(v) for v in base.angular_velocity)
+        float(v) for v in to_body @ np.asarray(base.angular_velocity, dtype=float))
     return msg
 
 
