@@ -172,13 +172,6 @@ class NodeGraph:
             watcher.destroy_node()
             rclpy.try_shutdown(context=context)
 
-    def dead_node(self) -> Optional[str]:
-        """:return: the first node whose process has exited, or None."""
-        for name, process in self.processes.items():
-            if process.poll() is not None:
-                return name
-        return None
-
     def check_alive(self) -> None:
         """:raises RuntimeError: naming the node that died and its exit status (unless
             keep_going, which only reports it)."""

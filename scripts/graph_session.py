@@ -36,7 +36,6 @@ class RunSeries:
     zmp_reference: List[tuple] = field(default_factory=list)  # t, x, y
     states: List[tuple] = field(default_factory=list)        # t, phase, step, fallen, reason
     solve_times: List[float] = field(default_factory=list)   # s
-    controller_status: List[int] = field(default_factory=list)
     plans: list = field(default_factory=list)                 # FootstepPlan messages
     path: list = field(default_factory=list)                  # (x, y) of the last nav Path
 
@@ -138,10 +137,6 @@ class GraphSession:
                                  m.zmp_max_y[0]))
                 s.zmp_reference.append((t, m.zmp_x[0], m.zmp_y[0]))
 
-        def on_diagnostics(m):
-            s.solve_times.append(m.solve_time)
-            s.controller_status.append(m.status)
-
         node.create_subscription(Odometry, 'odom', on_odom, 50)
         node.create_subscription(PointStamped, 'com', lambda m: s.com.append((
             stamp_seconds(m.header.stamp), m.point.x, m.point.y, m.point.z)), 50)
@@ -151,7 +146,7 @@ class GraphSession:
         node.create_subscription(WalkingState, 'walking_state', lambda m: s.states.append((
             stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen, m.reason)), 50)
         node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
-                                 on_diagnostics, 50)
+                                 lambda m: s.solve_times.append(m.solve_time), 50)
         node.create_subscription(FootstepPlan, 'footstep_plan', s.plans.append, latched)
         node.create_subscription(PathMsg, 'plan', lambda m: setattr(s, 'path', [
             (p.pose.position.x, p.pose.position.y) for p in m.poses]), latched)

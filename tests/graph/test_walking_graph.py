@@ -9,7 +9,6 @@ import signal
 import sys
 
 import numpy as np
-import pytest
 
 from ros_harness import domain_id_for_worker, REPO
 
