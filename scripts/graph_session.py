@@ -61,6 +61,7 @@ class GraphSession:
         self.series = RunSeries()
         self.recorder = None
         self.summary = None
+        self.walk_start_time = 0.0  # of the last walking_state: the gait is timed from it
         self._context = None
 
     # --- life cycle -------------------------------------------------------------------------
@@ -143,8 +144,12 @@ class GraphSession:
         node.create_subscription(PointStamped, 'zmp', lambda m: s.zmp.append((
             stamp_seconds(m.header.stamp), m.point.x, m.point.y)), 50)
         node.create_subscription(ReferenceTrajectory, 'reference_trajectory', on_reference, 50)
-        node.create_subscription(WalkingState, 'walking_state', lambda m: s.states.append((
-            stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen, m.reason)), 50)
+        def on_walking_state(m):
+            s.states.append((stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen,
+                             m.reason))
+            self.walk_start_time = m.walk_start_time
+
+        node.create_subscription(WalkingState, 'walking_state', on_walking_state, 50)
         node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
                                  lambda m: s.solve_times.append(m.solve_time), 50)
         node.create_subscription(FootstepPlan, 'footstep_plan', s.plans.append, latched)
@@ -181,8 +186,8 @@ class GraphSession:
 
     def wait_until_ready(self, timeout: float = 60.0) -> None:
         """Every node talks: the controller answers and references flow."""
-        ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and
-                             self.series.states and self.series.bounds, timeout)
+        ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and self.series.pelvis
+                             and self.series.states and self.series.bounds, timeout)
         if not ok:
             raise TimeoutError(f'graph not ready after {timeout} s (controller cycles: '
                                f'{len(self.series.solve_times)}, states: '
@@ -223,10 +228,15 @@ class GraphSession:
         self.wait_for_nodes_on('/cmd_vel', ('footstep_planner', 'state_machine'))
         self.cmd_vel_pub.publish(msg)
 
-    def push(self, fx: float, fy: float = 0.0, duration: float = 0.1) -> bool:
+    def push(self, fx: float, fy: float = 0.0, duration: float = 0.1,
+             at: Optional[float] = None) -> bool:
+        """Push the pelvis; at: sim time it begins (None: at once)."""
         from biped_msgs.srv import Push
         request = Push.Request()
         request.force.x, request.force.y, request.duration = fx, fy, duration
+        if at is not None:
+            request.start.sec = int(at)
+            request.start.nanosec = int(round((at - int(at)) * 1e9))
         if not self.push_client.wait_for_service(timeout_sec=10.0):
             raise TimeoutError('push service not available')
         future = self.push_client.call_async(request)

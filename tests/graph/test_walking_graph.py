@@ -85,9 +85,12 @@ def test_a_push_while_walking_in_place_is_survived():
         session.wait_until_ready()
         start = pelvis(session)
         session.send_command(command=1)  # START: walk in place
-        assert session.wait_sim_time(3.0, 120)
-        assert session.push(60.0, duration=0.1)
-        assert session.wait_sim_time(4.0, 120)
+        assert session.spin_until(lambda: session.walk_start_time > 0.0, 60)
+        # lockstep: the gait is timed from the walk start, so this push lands at the same
+        # phase in every run (early single support of a step)
+        push_at = session.walk_start_time + 3.05
+        assert session.push(60.0, duration=0.1, at=push_at)
+        assert session.spin_until(lambda: session.sim_time() >= push_at + 4.0, 180)
         assert not session.fallen()
         end = pelvis(session)
         assert end[3] > 0.5 and end[4] < math.radians(10)

@@ -87,6 +87,26 @@ def test_push_service_moves_the_robot_and_rejects_bad_requests(sim):
         assert not response.success and 'push rejected' in response.message
 
 
+def test_a_push_can_be_scheduled_at_a_sim_time(sim):
+    assert sim['odom'].wait_for(sim['executor'], timeout=15)
+    now = sim['odom'].messages[-1].header.stamp
+    start = now.sec + now.nanosec * 1e-9 + 1.0
+    request = Push.Request()
+    request.force.x, request.duration = 150.0, 0.1
+    request.start.sec, request.start.nanosec = int(start), int((start % 1.0) * 1e9)
+    response = call(sim, Push, 'push', request)
+    assert response.success and f't={start:.3f} s' in response.message
+
+    def x_at(t):
+        return next(m.pose.pose.position.x for m in sim['odom'].messages
+                    if m.header.stamp.sec + m.header.stamp.nanosec * 1e-9 >= t - 1e-6)
+    assert sim['odom'].wait_for(sim['executor'], lambda m: m[-1].header.stamp.sec +
+                                m[-1].header.stamp.nanosec * 1e-9 > start + 0.5, timeout=15)
+    before, after = x_at(start - 0.5), x_at(start)
+    assert abs(after - before) < 0.001          # nothing happened before the scheduled start
+    assert x_at(start + 0.5) > after + 0.002      # and the push moved it then
+
+
 def test_reset_and_terrain_services(sim):
     assert call(sim, Trigger, 'reset', Trigger.Request()).success
     tiles = SetTerrain.Request(kind=SetTerrain.Request.TILES, tile_size=0.2, seed=3)

@@ -206,15 +206,18 @@ class SimulatorNode(Node):
             response.message = (f'push rejected: force {force} N (|F| <= {MAX_PUSH_FORCE}), '
                                  f'duration {request.duration} s (> 0) and point must be finite')
             return response
+        start = seconds_of(request.start)
+        start = start if start > self._readings.time else None
         try:
             self._backend.push(ExternalPush(force=force, duration=request.duration,
-                                            link=request.link or None, point=point))
+                                            link=request.link or None, point=point,
+                                            start_time=start))
         except BipedSimError as error:
             response.success, response.message = False, f'push rejected: {error}'
             return response
         response.success = True
         response.message = f'pushing {force} N for {request.duration} s from ' \
-                           f't={self._readings.time:.3f} s'
+                           f't={self._readings.time if start is None else start:.3f} s'
         self.get_logger().info(response.message)
         return response
 
