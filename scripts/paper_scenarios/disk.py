@@ -1,0 +1,148 @@
+"""Walking around a disk (paper, "Walking Around A Disk").
+
+A disk of radius 1.35 m whose centre is 1.8 m to the robot's left; the robot walks around it
+counter-clockwise keeping 2 m from the centre and returns to its start. The step length is
+fixed; the turn of each step comes from the position it is taken from (the end of the plan,
+a few steps ahead of the robot): the heading aims along the tangent of the 2 m circle, leaning
+outward or inward by the radial error. Commands go to the
+planner as OMNI walk commands (per-step X, Y, alpha, through its lag filter), one per step.
+"""
+import math
+
+import numpy as np
+
+from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
+                                   write_result)
+
+DISK_CENTRE = (0.0, 1.8)
+DISK_RADIUS = 1.35
+CIRCLE_RADIUS = 2.0
+RADIAL_GAIN = 1.0        # rad of heading lean per m of radial error (through atan)
+HEADING_GAIN = 0.5       # share of the heading error corrected per step
+MAX_TURN = math.radians(20.0)  # per step, the planner's teleop limit
+RADIUS_TOLERANCE = 0.35  # m: the walk must stay within 2 m +- this
+RETURN_TOLERANCE = 0.5   # m: distance to the start after the lap
+OMNI = 3
+
+
+def disk_map():
+    """Occupancy grid (0.1 m) with the disk, for the simulator's obstacles and the plots."""
+    from biped_planner.occupancy_grid import OccupancyGrid
+    resolution, origin = 0.1, (-3.0, -1.5)
+    width, height = 60, 66
+    xs = origin[0] + resolution * (np.arange(width) + 0.5)
+    ys = origin[1] + resolution * (np.arange(height) + 0.5)
+    gx, gy = np.meshgrid(xs, ys)
+    inside = np.hypot(gx - DISK_CENTRE[0], gy - DISK_CENTRE[1]) <= DISK_RADIUS
+    return OccupancyGrid(np.where(inside, 100, 0).astype(np.int8), resolution, origin)
+
+
+class CircleSteering:
+    """The per-step command: fixed length, turn toward the 2 m circle's tangent."""
+
+    def __init__(self, step_length: float) -> None:
+        self.step_length = step_length
+
+    def command(self, position, planned_yaw: float) -> tuple:
+        rel = np.asarray(position) - DISK_CENTRE
+        radius = float(np.hypot(*rel))
+        tangent = math.atan2(rel[1], rel[0]) + 0.5 * math.pi   # counter-clockwise
+        desired = tangent - math.atan(RADIAL_GAIN * (CIRCLE_RADIUS - radius))
+        error = math.remainder(desired - planned_yaw, 2.0 * math.pi)
+        turn = self.step_length / CIRCLE_RADIUS + HEADING_GAIN * error
+        return self.step_length, 0.0, float(np.clip(turn, -MAX_TURN, MAX_TURN))
+
+
+class LapCounter:
+    """Angle swept around the disk centre by the COM (rad), and the radii seen."""
+
+    def __init__(self, start) -> None:
+        rel = np.asarray(start) - DISK_CENTRE
+        self.last = math.atan2(rel[1], rel[0])
+        self.swept = 0.0
+        self.radii = []
+
+    def update(self, position) -> None:
+        rel = np.asarray(position) - DISK_CENTRE
+        angle = math.atan2(rel[1], rel[0])
+        self.swept += math.remainder(angle - self.last, 2.0 * math.pi)
+        self.last = angle
+        self.radii.append(float(np.hypot(*rel)))
+
+
+def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
+    """One walk around the disk with the given step length (m)."""
+    import time
+    wall0 = time.monotonic()
+    steering = CircleSteering(step_length)
+    with graph_for(trial) as session:
+        session.publish_map(disk_map())
+        progress = Progress(trial)
+        sim0 = session.sim_time()
+        com = lambda: session.series.com[-1][1:3] if session.series.com else (0.0, 0.0)  # noqa
+        start = np.array(com())
+        lap = LapCounter(start)
+        state = {'step': -1}
+
+        def planned_pose():
+            """Where the plan ends (midpoint of its last two footsteps, last yaw): the new
+            step is taken from there, a few steps ahead of the robot (teleop lookahead)."""
+            plans = [p for p in session.series.plans if p.status == 0 and
+                     len(p.footsteps) >= 2]
+            if not plans:
+                return com(), 0.0
+            a, b = plans[-1].footsteps[-2:]
+            return (0.5 * (a.x + b.x), 0.5 * (a.y + b.y)), b.yaw
+
+        def on_time(t: float) -> bool:
+            lap.update(com())
+            step = session.series.states[-1][2] if session.series.states else 0
+            if step != state['step']:     # one command per step, from where the robot is now
+                state['step'] = step
+                x, y, turn = steering.command(*planned_pose())
+                session.command_pub.publish(_omni(x, y, turn))
+            return lap.swept >= 2.0 * math.pi * laps
+
+        step_time = 0.6
+        expected = 2.0 * math.pi * CIRCLE_RADIUS * laps / step_length * step_time
+        session.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
+        completed = drive(session, on_time, 1.5 * expected + 10.0, progress,
+                          lambda: f'swept {math.degrees(lap.swept):.0f} deg')
+        stood = stop_walking(session) if completed else False
+        result = base_result(trial, session, wall0, sim0)
+        series = session.series
+    end = np.array(series.com[-1][1:3])
+    radii = np.array(lap.radii[int(3.0 / 0.02):]) if len(lap.radii) > 300 else np.array(
+        lap.radii)
+    result.update({
+        'step_length_m': step_length, 'swept_deg': round(math.degrees(lap.swept), 1),
+        'radius_min_m': round(float(radii.min()), 3), 'radius_max_m': round(float(radii.max()), 3),
+        'radius_rms_error_m': round(float(np.sqrt(np.mean((radii - CIRCLE_RADIUS) ** 2))), 3),
+        'return_error_m': round(float(np.hypot(*(end - start))), 3),
+    })
+    result['success'] = bool(
+        completed and stood and not result['fallen'] and
+        abs(result['radius_min_m'] - CIRCLE_RADIUS) <= RADIUS_TOLERANCE and
+        abs(result['radius_max_m'] - CIRCLE_RADIUS) <= RADIUS_TOLERANCE and
+        (laps < 1.0 or result['return_error_m'] <= RETURN_TOLERANCE))
+    result['plots'] = [str(plot(trial, series, result))]
+    return write_result(trial, result)
+
+
+def _omni(x: float, y: float, turn: float):
+    from biped_msgs.msg import WalkCommand
+    return WalkCommand(command=OMNI, step_length=x, step_width=y, step_angle=turn)
+
+
+def plot(trial: Trial, series, result: dict):
+    """Feet and COM in the XY plane with the disk and the 2 m circle (paper Fig. walkingaround)."""
+    from run_plots import top_view
+
+    def circles(ax):
+        from matplotlib.patches import Circle
+        ax.add_patch(Circle(DISK_CENTRE, DISK_RADIUS, color='0.6', alpha=0.5, label='disk'))
+        ax.add_patch(Circle(DISK_CENTRE, CIRCLE_RADIUS, fill=False, ls=':', color='k',
+                            label='2 m circle'))
+    return top_view(series, trial.directory / 'disk_top_view.png',
+                    f'Walking around a disk ({trial.model}, step {result["step_length_m"]} m): '
+                    f'{"completed" if result["success"] else "failed"}', extra=circles)

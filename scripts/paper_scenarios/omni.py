@@ -1,0 +1,74 @@
+"""Omnidirectional walking (paper, "Omnidirectional Walking").
+
+Walking in place, then per-step setpoints (X, Y, alpha) that change at t = 2, 10, 20 and 32 s
+of the walk: forward, diagonal, diagonal while turning at 15 deg/s, and back to walking in
+place; each goes to the planner as an OMNI walk command and through its first-order lag filter.
+A scale factor multiplies every setpoint (the paper's sweep: 1.03 baseline, 1.16 proposed).
+"""
+import math
+import time
+
+import numpy as np
+
+from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
+                                   write_result)
+
+STEP_TIME = 0.6     # s, the configured gait (0.4 single + 0.2 double support)
+DURATION = 36.0     # s of walk: 4 s of walking in place after the last change
+# (t from the walk start in s, X m per step, Y m per step, alpha deg/s)
+SCHEDULE = ((0.0, 0.0, 0.0, 0.0), (2.0, 0.1, 0.0, 0.0), (10.0, 0.1, 0.05, 0.0),
+            (20.0, 0.2, 0.05, 15.0), (32.0, 0.0, 0.0, 0.0))
+OMNI = 3
+
+
+def setpoint(t_walk: float, scale: float) -> tuple:
+    """The scaled (X, Y, alpha per step) commanded at t_walk s after the walk start."""
+    current = SCHEDULE[0]
+    for entry in SCHEDULE:
+        if t_walk >= entry[0]:
+            current = entry
+    _, x, y, rate = current
+    return scale * x, scale * y, scale * math.radians(rate) * STEP_TIME
+
+
+def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
+    from biped_msgs.msg import WalkCommand
+    wall0 = time.monotonic()
+    with graph_for(trial) as session:
+        progress = Progress(trial)
+        sim0 = session.sim_time()
+        session.send_command(command=OMNI)   # walk in place: all setpoints zero
+        session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
+        walk0 = session.walk_start_time
+        sent = {'value': None}
+
+        def on_time(t: float) -> bool:
+            value = setpoint(t - walk0, scale)
+            if value != sent['value']:
+                sent['value'] = value
+                session.command_pub.publish(WalkCommand(
+                    command=OMNI, step_length=value[0], step_width=value[1],
+                    step_angle=value[2]))
+            return t - walk0 >= duration
+
+        completed = drive(session, on_time, duration + 5.0, progress,
+                          lambda: f'setpoint {sent["value"]}')
+        stood = stop_walking(session) if completed else False
+        result = base_result(trial, session, wall0, sim0)
+        series = session.series
+    pelvis = np.array(series.pelvis)
+    result.update({'scale': scale, 'walk_start_s': round(walk0 - sim0, 2),
+                   'final_pelvis': [round(float(v), 3) for v in pelvis[-1, 1:3]],
+                   'turned_deg': round(math.degrees(float(np.unwrap(pelvis[:, 5])[-1] -
+                                                          pelvis[0, 5])), 1)})
+    result['success'] = bool(completed and stood and not result['fallen'])
+    result['plots'] = [str(plot(trial, series, result))]
+    return write_result(trial, result)
+
+
+def plot(trial: Trial, series, result: dict):
+    """Feet and COM in the XY plane (paper Fig. omniwalk)."""
+    from run_plots import top_view
+    return top_view(series, trial.directory / 'omni_top_view.png',
+                    f'Omnidirectional walking ({trial.model}, scale {result["scale"]}): '
+                    f'{"completed" if result["success"] else "failed"}')

@@ -1,0 +1,97 @@
+"""Push recovery while walking in place (paper, "Push Recovery").
+
+Walking in place with a 0.4 s step (0.3 s single + 0.1 s double support), a 100 ms push on the
+middle of the hip every 8 s: 80 N first, +20 N while below 120 N, then +10 N, until the robot
+falls. Each push starts at the same phase of a step (8 s is a whole number of steps, and the
+simulator's push service takes the sim time it starts at). Reported: the largest force
+withstood (paper: 100 N baseline, 150 N proposed on COMAN), and the COM velocity with the
+push bands (paper Fig. push).
+"""
+import time
+from typing import List
+
+import numpy as np
+
+from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
+                                   write_result)
+
+TIMING = (0.3, 0.1)      # s: the paper's 0.4 s step
+FIRST_PUSH = 4.0         # s after the walk start: past the initial shift, into steady stepping
+PUSH_PHASE = 0.075       # s into a single support phase (a quarter of it)
+INTERVAL = 8.0           # s between pushes (20 steps)
+DURATION = 0.1           # s
+RECOVERY = 3.0           # s of walking after the last push to call it withstood
+START = 1                # walk command START: in place
+
+
+def forces(first: float = 80.0, maximum: float = 400.0) -> List[float]:
+    """80, 100, 120, then +10 N: the paper's schedule, up to maximum."""
+    values, force = [], first
+    while force <= maximum + 1e-9:
+        values.append(force)
+        force += 20.0 if force < 120.0 else 10.0
+    return values
+
+
+def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
+    """Walk in place and push with the forces of schedule (N) along +x (direction 1) or -x."""
+    wall0 = time.monotonic()
+    with graph_for(trial, timing=TIMING) as session:
+        progress = Progress(trial)
+        sim0 = session.sim_time()
+        session.send_command(command=START)
+        session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
+        walk0 = session.walk_start_time
+        # the first single support begins after Initialize (1 s) and the first double support
+        first_single = walk0 + 1.0 + TIMING[1]
+        step = sum(TIMING)
+        times = []
+        for k, force in enumerate(schedule):
+            at = first_single + step * round((FIRST_PUSH + k * INTERVAL) / step) + PUSH_PHASE
+            if not session.push(direction * force, duration=DURATION, at=at):
+                raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
+            times.append(at)
+        end = times[-1] + DURATION + RECOVERY
+        drive(session, lambda t: t >= end, end - session.sim_time() + 1.0, progress)
+        stood = stop_walking(session) if not session.fallen() else False
+        result = base_result(trial, session, wall0, sim0)
+        series = session.series
+    t_fall = None if result['fall_time_s'] is None else result['fall_time_s'] + sim0
+    # withstood: no fall before the next push (or, for the last one, before the run's end)
+    ends = times[1:] + [end]
+    withstood = [f for f, until in zip(schedule, ends) if t_fall is None or until <= t_fall]
+    result.update({
+        'forces_n': schedule, 'push_times_s': [round(at - sim0, 3) for at in times],
+        'largest_withstood_n': max(withstood) if withstood else 0.0,
+        'first_fall_force_n': None if t_fall is None else next(
+            (f for f, at, until in zip(schedule, times, ends) if at <= t_fall < until), None),
+    })
+    result['success'] = bool(stood and not result['fallen'])
+    result['plots'] = [str(plot(trial, series, result, times, schedule))]
+    return write_result(trial, result)
+
+
+def plot(trial: Trial, series, result: dict, times, schedule):
+    """COM velocity in x with the push bands (paper Fig. push b)."""
+    from run_plots import _plt
+    plt = _plt()
+    com = np.array(series.com)
+    t = com[:, 0]
+    velocity = np.gradient(com[:, 1], t) if len(t) > 2 else np.zeros_like(t)
+    fig, ax = plt.subplots(figsize=(10, 4))
+    ax.plot(t, velocity, 'b-', lw=1, label='COM velocity x')
+    for at, force in zip(times, schedule):
+        if at > t[-1]:
+            break
+        ax.axvspan(at, at + DURATION, color='m', alpha=0.3)
+        ax.text(at, ax.get_ylim()[1] * 0.9, f'{force:.0f} N', fontsize=7, rotation=90)
+    ax.set_xlabel('simulated time (s)')
+    ax.set_ylabel('COM velocity x (m/s)')
+    ax.set_title(f'Push recovery ({trial.model}): largest withstood '
+                 f'{result["largest_withstood_n"]:.0f} N')
+    ax.legend(loc='lower left', fontsize=8)
+    fig.tight_layout()
+    path = trial.directory / 'push_com_velocity.png'
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

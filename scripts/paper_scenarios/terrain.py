@@ -1,0 +1,82 @@
+"""Walking on uneven terrain (paper, "Walking on Uneven Terrains").
+
+A 4 x 4 m area of square tiles of random heights (25-50 mm), the robot standing on it 0.5 m
+from its near edge; tile areas of 100, 400 and 625 cm^2; the controller knows nothing of the
+terrain (flat-ground references). The robot walks forward (OMNI command, fixed step) until its
+pelvis is past the far edge.
+Reported: success per tile size and seed, and the COM height (paper Fig. uneven b).
+"""
+import math
+import time
+
+import numpy as np
+
+from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
+                                   write_result)
+
+SIDE = 4.0              # m
+BEHIND = 0.5            # m of tiles behind the robot's start: it starts on them (paper)
+HEIGHTS = (0.025, 0.05)  # m
+TILE_AREAS_CM2 = (100, 400, 625)
+STEP_LENGTH = 0.1       # m per step
+EXIT_MARGIN = 0.3       # m past the far edge
+OMNI = 3
+
+
+def tile_size(area_cm2: float) -> float:
+    return math.sqrt(area_cm2) / 100.0
+
+
+def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENGTH,
+        side: float = SIDE) -> dict:
+    """Walk across a side x side m tiled area (tiles of area_cm2, heights from seed)."""
+    from biped_msgs.msg import WalkCommand
+    from biped_msgs.srv import SetTerrain
+    wall0 = time.monotonic()
+    with graph_for(trial) as session:
+        ok = session.set_terrain(kind=SetTerrain.Request.TILES, side_length=side,
+                                 origin_x=-BEHIND, origin_y=-0.5 * side,
+                                 tile_size=tile_size(area_cm2), min_height=HEIGHTS[0],
+                                 max_height=HEIGHTS[1], seed=seed)
+        # the robot starts on the tiles, as in the paper: stand it on them, let it settle
+        if not ok or not session.reset_robot():
+            raise RuntimeError('set_terrain or reset refused')
+        session.wait_sim_time(1.0, 60.0)
+        progress = Progress(trial)
+        sim0 = session.sim_time()
+        session.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
+        session.command_pub.publish(WalkCommand(command=OMNI, step_length=step_length))
+        exit_x = side - BEHIND + EXIT_MARGIN
+        budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0
+        crossed = drive(session, lambda t: session.series.pelvis[-1][1] >= exit_x, budget,
+                        progress)
+        stood = stop_walking(session) if crossed else False
+        result = base_result(trial, session, wall0, sim0)
+        series = session.series
+    pelvis = np.array(series.pelvis)
+    result.update({'tile_area_cm2': area_cm2, 'side_m': side, 'seed': seed,
+                   'step_length_m': step_length, 'distance_m': round(float(pelvis[:, 1].max()), 3),
+                   'terrain_fraction_crossed': round(float(np.clip(
+                       (pelvis[:, 1].max() + BEHIND) / side, 0.0, 1.0)), 3)})
+    result['success'] = bool(crossed and stood and not result['fallen'])
+    result['plots'] = [str(plot(trial, series, result))]
+    return write_result(trial, result)
+
+
+def plot(trial: Trial, series, result: dict):
+    """COM height while crossing the tiles (paper Fig. uneven b)."""
+    from run_plots import _plt
+    plt = _plt()
+    com = np.array(series.com)
+    fig, ax = plt.subplots(figsize=(10, 4))
+    ax.plot(com[:, 0], com[:, 3], 'g-', lw=1, label='COM height')
+    ax.set_xlabel('simulated time (s)')
+    ax.set_ylabel('COM z (m)')
+    ax.set_title(f'Uneven terrain ({trial.model}, tiles {result["tile_area_cm2"]} cm^2, seed '
+                 f'{result["seed"]}): {"crossed" if result["success"] else "failed"}')
+    ax.legend(loc='lower left', fontsize=8)
+    fig.tight_layout()
+    path = trial.directory / 'terrain_com_height.png'
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

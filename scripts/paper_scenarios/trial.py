@@ -1,0 +1,157 @@
+"""One trial of a scenario: a fresh node graph with a bag, a progress line, a JSON result."""
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+import json
+import math
+from pathlib import Path
+import shutil
+import time
+from typing import Callable, Dict, List, Optional
+
+from graph_session import GraphSession
+
+IDLE = 0
+
+
+@dataclass
+class Trial:
+    """Where and how one trial runs.
+
+    :param scenario: scenario name (disk, omni, push, terrain, goal)
+    :param model: controller model, 'three_mass' or 'lipm'
+    :param setting: the swept value or case, part of the output path (e.g. '0.15')
+    :param out: root output directory; the trial writes to out/scenario/model/setting/
+    :param domain_id: ROS domain of this trial's graph
+    :param record: write a rosbag2 of the run
+    :param overrides: extra node parameters, {node: ['name:=value', ...]}
+    :param log: progress and messages
+    """
+
+    scenario: str
+    model: str
+    setting: str
+    out: Path
+    domain_id: int
+    record: bool = True
+    overrides: Dict[str, List[str]] = field(default_factory=dict)
+    log: Callable[[str], None] = print
+
+    @property
+    def directory(self) -> Path:
+        return Path(self.out) / self.scenario / self.model / self.setting
+
+    @property
+    def label(self) -> str:
+        return f'{self.scenario} {self.model} {self.setting}'
+
+
+@contextmanager
+def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0)):
+    """A started graph for the trial: its model, start pose and gait timing (single, double
+    support in s; None: the configured one), recording to the trial's bag."""
+    directory = trial.directory
+    directory.mkdir(parents=True, exist_ok=True)
+    bag = directory / 'bag'
+    if bag.exists():
+        shutil.rmtree(bag)
+    overrides = {node: list(values) for node, values in trial.overrides.items()}
+    overrides.setdefault('mpc_controller', []).append(f'model:={trial.model}')
+    overrides.setdefault('simulator', []).extend(
+        [f'start_x:={start[0]}', f'start_y:={start[1]}', f'start_yaw:={start[2]}'])
+    if timing is not None:
+        for node in ('state_machine', 'footstep_planner'):
+            overrides.setdefault(node, []).extend(
+                [f'single_support:={timing[0]}', f'double_support:={timing[1]}'])
+    with GraphSession(trial.domain_id, bag_dir=bag if trial.record else None,
+                      overrides=overrides, log=lambda line: None) as session:
+        session.wait_until_ready()
+        yield session
+
+
+class Progress:
+    """A progress line every few wall seconds: sim time, speed, pelvis, step, what is going on."""
+
+    def __init__(self, trial: Trial, every: float = 5.0) -> None:
+        self.trial, self.every = trial, every
+        self.wall0 = time.monotonic()
+        self.last = self.wall0
+        self.sim0 = None
+
+    def __call__(self, session: GraphSession, note: str = '') -> None:
+        now = time.monotonic()
+        if session.series.pelvis and self.sim0 is None:
+            self.sim0 = session.sim_time()
+        if now - self.last < self.every or self.sim0 is None:
+            return
+        self.last = now
+        t = session.sim_time()
+        p = session.series.pelvis[-1]
+        step = session.series.states[-1][2] if session.series.states else 0
+        self.trial.log(f'  [{self.trial.label}] sim {t:6.1f} s ({(t - self.sim0) / (now - self.wall0):.1f}x'
+                       f' real time), pelvis ({p[1]:+.2f}, {p[2]:+.2f}), step {step} {note}')
+
+
+def drive(session: GraphSession, on_time: Callable[[float], bool], sim_duration: float,
+          progress: Progress, note: Callable[[], str] = lambda: '') -> bool:
+    """Call on_time(t) at each new sim time until it returns True (-> True), the robot falls
+    or sim_duration s of sim time pass (-> False). Wall timeout: 20x the sim duration + 60 s."""
+    end = session.sim_time() + sim_duration
+    state = {'t': -1.0, 'done': False}
+
+    def tick() -> bool:
+        progress(session, note())
+        t = session.sim_time()
+        if t != state['t']:
+            state['t'] = t
+            state['done'] = bool(on_time(t))
+        return state['done'] or session.fallen() or t >= end
+    session.spin_until(tick, 20.0 * sim_duration + 60.0)
+    return state['done'] and not session.fallen()
+
+
+def stop_walking(session: GraphSession, timeout_sim: float = 5.0) -> bool:
+    """STOP, then wait for Idle (True) or a fall (False)."""
+    if session.fallen():
+        return False
+    session.send_command(command=0)
+    end = session.sim_time() + timeout_sim
+    session.spin_until(lambda: session.phase() == IDLE or session.fallen() or
+                       session.sim_time() >= end, 20.0 * timeout_sim + 30.0)
+    session.wait_sim_time(0.5, 30.0)
+    return session.phase() == IDLE and not session.fallen()
+
+
+def fall_time(session: GraphSession) -> Optional[float]:
+    fallen = [s[0] for s in session.series.states if s[3]]
+    return fallen[0] if fallen else None
+
+
+def base_result(trial: Trial, session: GraphSession, wall0: float, sim0: float) -> dict:
+    """What every trial reports: outcome, fall, durations, MPC solve times, the bag."""
+    solve = sorted(session.series.solve_times)
+    t_fall = fall_time(session)
+    return {
+        'scenario': trial.scenario, 'model': trial.model, 'setting': trial.setting,
+        'fallen': t_fall is not None,
+        'fall_time_s': None if t_fall is None else round(t_fall - sim0, 2),
+        'simulated_s': round(session.sim_time() - sim0, 2),
+        'wall_s': round(time.monotonic() - wall0, 1),
+        'max_tilt_deg': round(math.degrees(max(p[4] for p in session.series.pelvis)), 2),
+        'mpc_solve_median_us': round(1e6 * solve[len(solve) // 2], 1) if solve else None,
+        'bag': str(trial.directory / 'bag') if trial.record else None,
+    }
+
+
+def write_result(trial: Trial, result: dict) -> dict:
+    """result.json in the trial's directory, and a one-line verdict."""
+    (trial.directory / 'result.json').write_text(json.dumps(result, indent=2))
+    verdict = 'SUCCESS' if result['success'] else 'FAILED'
+    trial.log(f'[{trial.label}] {verdict}: ' + ', '.join(
+        f'{k} {v}' for k, v in result.items() if k in trial_summary_keys(result)))
+    return result
+
+
+def trial_summary_keys(result: dict):
+    """The scalar outcomes worth a progress line (not the lists, paths and labels)."""
+    return [k for k, v in result.items() if not isinstance(v, (list, dict)) and k not in (
+        'scenario', 'model', 'setting', 'bag', 'success', 'mpc_solve_median_us')]

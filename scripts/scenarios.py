@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""The paper's COMAN experiments through the node graph, for the three-mass MPC and the LIPM
+baseline: one sub-command per scenario, `summary` for the table tb:summary, `video` for a clip.
+
+Every trial brings up the five nodes (lockstep sim time), records a rosbag2 of the run, and writes
+result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
+
+  scenarios.py disk [--step-length 0.15 | --sweep] [--laps 1]
+  scenarios.py omni [--scale 1.0 | --sweep] [--duration 36]
+  scenarios.py push [--forces 80 100 ...]            (default: the paper's schedule to a fall)
+  scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
+  scenarios.py goal
+  scenarios.py summary [--seeds 1 2 3]               (all of them, both models, the table)
+  scenarios.py video push --model three_mass         (an animated GIF from the sim camera)
+Common: --model three_mass|lipm|both (default both), --out DIR, --domain-id N, --no-bag.
+"""
+import argparse
+import json
+from pathlib import Path
+import sys
+import time
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from paper_scenarios import disk, omni, push, start_goal, summary, terrain  # noqa: E402
+from paper_scenarios.sweep import largest_completing  # noqa: E402
+from paper_scenarios.trial import Trial  # noqa: E402
+
+REPO = Path(__file__).resolve().parent.parent
+MODELS = ('lipm', 'three_mass')
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument('--model', choices=MODELS + ('both',), default='both')
+    common.add_argument('--out', type=Path, default=REPO / 'output' / 'scenarios')
+    common.add_argument('--domain-id', type=int, default=50,
+                        help='first ROS domain; trials use the next ones (up to +9)')
+    common.add_argument('--no-bag', action='store_true', help='do not record bags')
+    sub = parser.add_subparsers(dest='scenario', required=True)
+    p = sub.add_parser('disk', parents=[common], help='walk around a disk')
+    p.add_argument('--step-length', type=float, default=0.15)
+    p.add_argument('--laps', type=float, default=1.0)
+    p.add_argument('--sweep', action='store_true', help='largest step length in 0.08..0.25 m')
+    p = sub.add_parser('omni', parents=[common], help='omnidirectional setpoints')
+    p.add_argument('--scale', type=float, default=1.0)
+    p.add_argument('--duration', type=float, default=omni.DURATION)
+    p.add_argument('--sweep', action='store_true', help='largest command scale in 0.5..2')
+    p = sub.add_parser('push', parents=[common], help='pushes while walking in place')
+    p.add_argument('--forces', type=float, nargs='+', default=None,
+                   help='N, one push each 8 s (default 80, 100, 120, 130, ... up to a fall)')
+    p = sub.add_parser('terrain', parents=[common], help='cross uneven tiles')
+    p.add_argument('--tile-areas', type=float, nargs='+', default=list(terrain.TILE_AREAS_CM2))
+    p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
+    p.add_argument('--side', type=float, default=terrain.SIDE)
+    sub.add_parser('goal', parents=[common], help='START -> GOAL around obstacles')
+    p = sub.add_parser('summary', parents=[common], help='every scenario, both models, table')
+    p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
+    p = sub.add_parser('video', parents=[common], help='a GIF of one scenario from the camera')
+    p.add_argument('which', choices=('disk', 'omni', 'push', 'terrain'))
+    p.add_argument('--fps', type=float, default=12.5)
+    return parser
+
+
+def models_of(args):
+    return MODELS if args.model == 'both' else (args.model,)
+
+
+def log(line: str) -> None:
+    print(line, flush=True)
+
+
+def trial_of(args, scenario: str, model: str, setting: str, offset: int = 0) -> Trial:
+    return Trial(scenario, model, setting, args.out, args.domain_id + offset % 10,
+                 record=not args.no_bag, log=log)
+
+
+def run_scenario(args) -> int:
+    results = []
+    for model in models_of(args):
+        counter = iter(range(1000))
+        if args.scenario == 'disk':
+            if args.sweep:
+                best, tried = largest_completing(summary.DISK_LENGTHS, lambda length: disk.run(
+                    trial_of(args, 'disk', model, f'{length:.2f}', next(counter)),
+                    length)['success'], first=0.15)
+                results.append({'model': model, 'largest_step_length_m': best, 'tried': tried})
+            else:
+                results.append(disk.run(trial_of(args, 'disk', model, f'{args.step_length:.2f}'),
+                                        args.step_length, args.laps))
+        elif args.scenario == 'omni':
+            if args.sweep:
+                best, tried = largest_completing(summary.OMNI_SCALES, lambda scale: omni.run(
+                    trial_of(args, 'omni', model, f'{scale:.2f}', next(counter)),
+                    scale, args.duration)['success'], first=1.0)
+                results.append({'model': model, 'largest_scale': best, 'tried': tried})
+            else:
+                results.append(omni.run(trial_of(args, 'omni', model, f'{args.scale:.2f}'),
+                                        args.scale, args.duration))
+        elif args.scenario == 'push':
+            forces = args.forces or push.forces()
+            results.append(push.run(trial_of(args, 'push', model, 'schedule'), forces))
+        elif args.scenario == 'terrain':
+            for area in args.tile_areas:
+                for seed in args.seeds:
+                    results.append(terrain.run(trial_of(
+                        args, 'terrain', model, f'{area:g}cm2_seed{seed}', next(counter)),
+                        area, seed, side=args.side))
+        elif args.scenario == 'goal':
+            results.append(start_goal.run(trial_of(args, 'goal', model, 'paper_map')))
+    print(json.dumps(results, indent=2, default=str))
+    return 0 if all(r.get('success', r.get('largest_scale', r.get('largest_step_length_m'))
+                        is not None) for r in results) else 1
+
+
+def run_summary(args) -> int:
+    wall0 = time.monotonic()
+    args.out.mkdir(parents=True, exist_ok=True)
+    per_model = {model: summary.run_model(args.out, model, args.domain_id, args.seeds, log)
+                 for model in MODELS}
+    table = summary.table(per_model['lipm'], per_model['three_mass'])
+    table['wall_s'] = round(time.monotonic() - wall0, 1)
+    table['per_model'] = per_model
+    (args.out / 'summary.json').write_text(json.dumps(table, indent=2))
+    text = summary.markdown(table) + f'\nMade by `scripts/scenarios.py summary` in ' \
+        f'{table["wall_s"] / 60:.0f} min.\n'
+    (args.out / 'summary.md').write_text(text)
+    print(text)
+    return 0
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.scenario == 'summary':
+        return run_summary(args)
+    if args.scenario == 'video':
+        from paper_scenarios.video import run_video
+        return run_video(args, models_of(args)[-1], trial_of)
+    return run_scenario(args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,95 @@
+"""Smoke tests of the paper's scenarios through the real node graph (short horizon, one
+setting each); the full sweeps are `scripts/scenarios.py summary`. Each asserts the physical
+outcome, read from the run's topics."""
+import math
+import sys
+
+import numpy as np
+import pytest
+
+from ros_harness import domain_id_for_worker, REPO
+
+sys.path.insert(0, str(REPO / 'scripts'))
+from paper_scenarios import disk, omni, push, terrain  # noqa: E402
+from paper_scenarios.sweep import grid, largest_completing  # noqa: E402
+from paper_scenarios.trial import Trial  # noqa: E402
+
+
+def trial(tmp_path, scenario, setting, model='three_mass', record=False):
+    return Trial(scenario, model, setting, tmp_path, domain_id_for_worker(), record=record,
+                 log=lambda line: None)
+
+
+def test_a_quarter_lap_around_the_disk_keeps_near_the_2_m_circle(tmp_path):
+    result = disk.run(trial(tmp_path, 'disk', '0.15', record=True), 0.15, laps=0.25)
+    assert not result['fallen']
+    assert result['swept_deg'] >= 90.0
+    assert 2.0 - 0.35 <= result['radius_min_m'] and result['radius_max_m'] <= 2.0 + 0.35
+    assert (tmp_path / 'disk' / 'three_mass' / '0.15' / 'bag' / 'metadata.yaml').exists()
+    assert (tmp_path / 'disk' / 'three_mass' / '0.15' / 'disk_top_view.png').exists()
+
+
+def test_omnidirectional_setpoints_walk_forward_then_diagonally(tmp_path):
+    result = omni.run(trial(tmp_path, 'omni', '1.00'), 1.0, duration=14.0)
+    assert result['success'] and not result['fallen']
+    x, y = result['final_pelvis']
+    # 8 s forward at 0.1 m per 0.6 s step (~1.1 m after the lag), then 4 s diagonally
+    assert x > 0.9
+    assert y > 0.1
+
+
+def test_the_paper_first_push_is_withstood_while_walking_in_place(tmp_path):
+    result = push.run(trial(tmp_path, 'push', '80'), [80.0])
+    assert result['largest_withstood_n'] == 80.0 and not result['fallen']
+    assert (tmp_path / 'push' / 'three_mass' / '80' / 'push_com_velocity.png').exists()
+
+
+def test_a_strip_of_small_tiles_is_crossed_without_terrain_knowledge(tmp_path):
+    result = terrain.run(trial(tmp_path, 'terrain', '100cm2'), 100, seed=1, side=1.0)
+    assert result['success'] and not result['fallen']
+    assert result['terrain_fraction_crossed'] == 1.0
+
+
+# --- the sweep's search, against an exhaustive scan (no graph) -----------------------------
+@pytest.mark.parametrize('threshold', [None, 0.08, 0.12, 0.2, 0.25])
+def test_bisection_finds_the_largest_completing_value(threshold):
+    values = grid(0.08, 0.25, 0.01)
+    calls = []
+
+    def completes(value):
+        calls.append(value)
+        return threshold is not None and value <= threshold + 1e-9
+    best, tried = largest_completing(values, completes, first=0.15)
+    exhaustive = max((v for v in values if completes(v)), default=None)
+    assert best == exhaustive
+    assert len(tried) <= math.ceil(math.log2(len(values) + 1)) + 1
+    assert tried[0.15] == (threshold is not None and threshold >= 0.15)
+
+
+def test_grid_is_inclusive_and_rounded():
+    assert grid(0.08, 0.25, 0.01) == [round(0.08 + 0.01 * k, 2) for k in range(18)]
+    assert grid(0.5, 2.0, 0.05)[-1] == 2.0 and np.all(np.diff(grid(0.5, 2.0, 0.05)) > 0)
+
+
+def test_push_schedule_is_the_papers():
+    assert push.forces(80.0, 160.0) == [80.0, 100.0, 120.0, 130.0, 140.0, 150.0, 160.0]
+
+
+def test_omni_setpoints_change_at_the_papers_times():
+    assert omni.setpoint(1.9, 1.0) == (0.0, 0.0, 0.0)
+    assert omni.setpoint(2.0, 1.0) == (0.1, 0.0, 0.0)
+    assert omni.setpoint(10.5, 2.0) == (0.2, 0.1, 0.0)
+    x, y, alpha = omni.setpoint(25.0, 1.0)
+    assert (x, y) == (0.2, 0.05) and alpha == pytest.approx(math.radians(15.0) * 0.6)
+    assert omni.setpoint(33.0, 1.0) == (0.0, 0.0, 0.0)
+
+
+def test_disk_steering_follows_the_tangent_and_corrects_the_radius():
+    steering = disk.CircleSteering(0.15)
+    # on the circle, straight below the centre, heading along +x (the tangent): a gentle left
+    # turn of L / R per step
+    x, y, turn = steering.command((0.0, 1.8 - 2.0), 0.0)
+    assert (x, y) == (0.15, 0.0) and turn == pytest.approx(0.15 / 2.0)
+    # inside the circle: turn less (lean outward); outside: turn more
+    assert steering.command((0.0, 1.8 - 1.7), 0.0)[2] < turn
+    assert steering.command((0.0, 1.8 - 2.3), 0.0)[2] > turn
