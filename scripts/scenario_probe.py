@@ -8,12 +8,14 @@ Usage: .venv/bin/python scripts/scenario_probe.py [push] [omni] [disk] [--models
 (no part: all three, in the order push, omni, disk)
 """
 import argparse
+from dataclasses import replace
 import math
 import sys
 import time
 
 import numpy as np
 
+from biped_mpc.linear_mpc import LEG_OUTPUTS
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.omnidirectional_stepper import (OmnidirectionalStepper, StepCommand,
@@ -37,6 +39,7 @@ ROBOT = coman_like()
 LEG_KP = 2000.0
 FRESH = False
 BACKEND = None
+LEG_OUTPUTS_CHOICE = None   # None: the walking controller's default
 
 
 def backend():
@@ -52,7 +55,10 @@ def backend():
 
 
 def controller(model):
-    return WalkingController(WalkingControllerParams(robot=ROBOT, model=model))
+    params = WalkingControllerParams(robot=ROBOT, model=model)
+    if LEG_OUTPUTS_CHOICE is not None:
+        params = replace(params, mpc=replace(params.mpc, leg_outputs=LEG_OUTPUTS_CHOICE))
+    return WalkingController(params)
 
 
 def stepper_params():
@@ -302,8 +308,12 @@ def main(argv=None):
                         help='a new PyBullet backend for every trial (independent trials)')
     parser.add_argument('--com-height', type=float, default=0.497,
                         help='reference COM height (m); lower gives the legs more reach')
+    parser.add_argument('--leg-outputs', default=None, choices=LEG_OUTPUTS,
+                        help="what the MPC tracks of the legs (MpcParams.leg_outputs; default: "
+                             "the walking controller's, torso_relative)")
     args = parser.parse_args(argv)
-    global LEG_KP, FRESH
+    global LEG_KP, FRESH, LEG_OUTPUTS_CHOICE
+    LEG_OUTPUTS_CHOICE = args.leg_outputs
     LEG_KP = args.leg_kp
     FRESH = args.fresh_backend
     global REFERENCE

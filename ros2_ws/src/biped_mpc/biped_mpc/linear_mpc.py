@@ -1,5 +1,5 @@
 """The online walking controller of the paper: a linear MPC on the three-mass (or LIPM) model."""
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 import math
 import time
@@ -17,6 +17,9 @@ from biped_mpc.qp_backends import BACKENDS, make_backend, QpSolution, QpStatus
 CONSTRAINT_MODES = ('hard', 'soft', 'off')
 WEIGHT_CONVENTIONS = ('matlab', 'literal')
 MOVE_BLOCKINGS = ('spread', 'hold')
+LEG_OUTPUTS_ABSOLUTE = 'absolute'
+LEG_OUTPUTS_TORSO_RELATIVE = 'torso_relative'
+LEG_OUTPUTS = (LEG_OUTPUTS_ABSOLUTE, LEG_OUTPUTS_TORSO_RELATIVE)
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,17 @@ class MpcParams:
         Riccati equation) of the terminal state's distance to the rest state of the last
         reference sample; it keeps the closed loop stable (see LinearMpc)
     :param backend: QP solver, one of qp_backends.BACKENDS
+    :param leg_outputs: what the MPC tracks of each leg. 'absolute': the leg mass position
+        c_l (the paper's C, its reference the midpoint of the planned foot and the planned
+        hip); 'torso_relative': c_l - c_t / 2, the leg mass relative to the model's own hip,
+        whose reference is half the planned foot (reference_adapter.outputs_from_window with
+        the same leg_outputs). With 'torso_relative' a leg that tracks its reference keeps
+        its foot, 2 c_l - c_t, on the planned foot wherever the torso moves to place the ZMP,
+        and a stance leg stays midway between its sole and the hip as the geometry demands;
+        with 'absolute' every centimetre the torso moves away from the planner's hip moves
+        the swing foot target by as much and pulls the stance leg mass off the geometry.
+        'absolute' is the default here (the paper's model-plant experiments, whose plant has
+        free leg masses); the humanoid's WalkingControllerParams default to 'torso_relative'
     """
 
     dt: float = 0.02
@@ -77,6 +91,7 @@ class MpcParams:
     soft_linear_weight: float = 1e3
     terminal_cost: bool = True
     backend: str = 'daqp'
+    leg_outputs: str = LEG_OUTPUTS_ABSOLUTE
 
     def __post_init__(self) -> None:
         _check_number('dt', self.dt, 0.0, 1.0, low_open=True)
@@ -102,6 +117,7 @@ class MpcParams:
         if not isinstance(self.terminal_cost, bool):
             raise ConfigError(f'terminal_cost must be a bool, got {self.terminal_cost!r}')
         _check_choice('backend', self.backend, BACKENDS)
+        _check_choice('leg_outputs', self.leg_outputs, LEG_OUTPUTS)
 
     def quadratic_weights(self, name: str) -> np.ndarray:
         """The coefficients multiplying the squared signals in the QP cost.
@@ -222,7 +238,7 @@ class MpcResult:
     @cached_property
     def predicted_outputs(self) -> np.ndarray:
         """Outputs y(k+1 .. k+Np): left leg, right leg, ZMP, shape (2, Np, 3) (m)."""
-        return self.predicted_states @ self._mpc.discrete_model.c.T
+        return self.predicted_states @ self._mpc.output_matrix.T
 
 
 class LinearMpc:
@@ -260,8 +276,10 @@ class LinearMpc:
     24 steps), and hard constraints cover the first 40 steps (0.8 s). Soft constraints over the
     whole horizon are the other feasible form.
 
-    Outputs y = [left leg mass position, right leg mass position, ZMP] are expected at the
-    predicted times t(k) + i Ts, i = 1 .. Np: sample references at t + Ts.
+    Outputs y = [left leg, right leg, ZMP] (the leg rows as MpcParams.leg_outputs chooses:
+    the leg mass positions of the model's C, or each leg mass minus half the torso; see
+    tracked_outputs) are expected at the predicted times t(k) + i Ts, i = 1 .. Np: sample
+    references at t + Ts.
 
     :param model: the continuous model (three_mass_model or lipm_model)
     :param params: MPC parameters
@@ -279,7 +297,9 @@ class LinearMpc:
         self.params = params
         self.model = model
         self.discrete_model = model.discretize(params.dt)
-        self.prediction = CondensedPrediction(self.discrete_model, params.blocks)
+        self.output_matrix = tracked_outputs(model, params.leg_outputs)
+        self.prediction = CondensedPrediction(replace(self.discrete_model, c=self.output_matrix),
+                                              params.blocks)
         self._clock = clock
         self._build()
         self.reset()
@@ -522,9 +542,9 @@ class LinearMpc:
 
         xi = [x; u_prev] is the state of the increment form (xi+ = [A B; 0 I] xi + [B; I] du),
         P the stabilising solution of its discrete Riccati equation with the stage weights
-        Q = diag(C' W C, W_jerk), R = W_du, and xi_r the rest state of the last reference
-        sample r_N: velocities, accelerations and jerks zero, the legs at their references and
-        the torso where the ZMP equals its reference. P - Q leaves out the stage cost of the
+        Q = diag(C' W C, W_jerk) with C the tracked outputs, R = W_du, and xi_r the rest state
+        of the last reference sample r_N: velocities, accelerations and jerks zero, and the
+        three positions whose outputs equal r_N. P - Q leaves out the stage cost of the
         last step, already in the sum.
         """
         from scipy.linalg import solve_discrete_are
@@ -535,7 +555,8 @@ class LinearMpc:
         a_aug = np.block([[model.a, model.b], [np.zeros((nu, nx)), np.eye(nu)]])
         b_aug = np.vstack([model.b, np.eye(nu)])
         q_aug = np.zeros((nx + nu, nx + nu))
-        q_aug[:nx, :nx] = model.c.T @ np.diag(weights[:N_OUTPUTS]) @ model.c
+        q_aug[:nx, :nx] = (self.output_matrix.T @ np.diag(weights[:N_OUTPUTS])
+                            @ self.output_matrix)
         q_aug[nx:, nx:] = np.diag(jerk[:nu])
         # A tiny regularisation keeps the Riccati solver well posed when a weight is zero.
         riccati = solve_discrete_are(a_aug, b_aug, q_aug + 1e-9 * np.eye(nx + nu),
@@ -547,14 +568,11 @@ class LinearMpc:
         from_state = np.vstack([pred.states_from_state[last], np.zeros((nu, nx))])
         from_input = np.vstack([pred.states_from_input[last], np.eye(nu)])
         from_moves = np.vstack([pred.states_from_moves[last], pred.inputs_from_moves[last_input]])
-        masses = np.asarray(self.model.masses, dtype=float)
+        # Rest state: velocities and accelerations zero, the three positions those whose
+        # outputs are the reference (C restricted to the positions is invertible).
+        positions = [state_index(mass, POSITION) for mass in (LEFT_LEG, TORSO, RIGHT_LEG)]
         rest = np.zeros((nx + nu, N_OUTPUTS))
-        rest[state_index(LEFT_LEG, POSITION), OUTPUT_LEFT_LEG] = 1.0
-        rest[state_index(RIGHT_LEG, POSITION), OUTPUT_RIGHT_LEG] = 1.0
-        torso = state_index(TORSO, POSITION)
-        rest[torso, OUTPUT_ZMP] = masses.sum() / masses[TORSO]
-        rest[torso, OUTPUT_LEFT_LEG] = -masses[LEFT_LEG] / masses[TORSO]
-        rest[torso, OUTPUT_RIGHT_LEG] = -masses[RIGHT_LEG] / masses[TORSO]
+        rest[positions] = np.linalg.inv(self.output_matrix[:, positions])
         hessian = 2.0 * from_moves.T @ terminal @ from_moves
         # gradient = 2 G' P_t (F_x x + F_u u_prev - S r_N) = [x, u_prev, r_N] @ gain
         gain = 2.0 * np.vstack([from_state.T, from_input.T, -rest.T]) @ terminal @ from_moves
@@ -567,6 +585,20 @@ class LinearMpc:
                   + (pred.inputs_from_moves @ self._plan_moves[plane]).reshape(-1, N_INPUTS))
         age = min(int(self._plan_age[plane]), pred.n_predict - 1)
         return np.concatenate([inputs[age:], np.repeat(inputs[-1:], age, axis=0)])
+
+
+def tracked_outputs(model: LinearModel, leg_outputs: str) -> np.ndarray:
+    """The output matrix the MPC tracks and constrains (see MpcParams.leg_outputs).
+
+    :param model: the continuous model (its C has the absolute leg rows)
+    :param leg_outputs: 'absolute' or 'torso_relative'
+    :return: (3, 9) rows left leg, right leg, ZMP
+    """
+    matrix = np.array(model.c, dtype=float)
+    if leg_outputs == LEG_OUTPUTS_TORSO_RELATIVE:
+        matrix[[OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG], state_index(TORSO, POSITION)] = -0.5
+    matrix.setflags(write=False)
+    return matrix
 
 
 def _inputs_to_states(model, n_predict: int) -> np.ndarray:

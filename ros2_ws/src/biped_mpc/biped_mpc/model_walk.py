@@ -201,10 +201,12 @@ def run_walk(reference, setup: WalkSetup, t0: Optional[float] = None,
     for k in range(n_cycles):
         t = t0 + k * dt
         window = reference.sample(t, n_predict + 1, dt)
-        y_ref, y_min, y_max = outputs_from_window(window)
+        # The log keeps the references of the plant's outputs (absolute leg masses).
+        y_ref = outputs_from_window(window)[0]
+        mpc_ref, y_min, y_max = outputs_from_window(window, mpc.params.leg_outputs)
         estimate = measurement.state if estimator is None else estimator.correct(
             measurement.outputs)
-        result = mpc.solve(estimate, y_ref[:, 1:], y_min[:, 1:], y_max[:, 1:])
+        result = mpc.solve(estimate, mpc_ref[:, 1:], y_min[:, 1:], y_max[:, 1:])
         force = push_force if k in push_cycles else np.zeros(N_PLANES)
         zmp_min, zmp_max = np.asarray(window.zmp_min), np.asarray(window.zmp_max)
         _record(log, k, t, measurement, estimate, y_ref[:, 0], zmp_min[0], zmp_max[0], margin,

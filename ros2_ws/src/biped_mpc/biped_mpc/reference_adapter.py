@@ -9,7 +9,7 @@ _REQUIRED = ('zmp', 'left_mass', 'right_mass', 'hip', 'zmp_min', 'zmp_max', 'lef
              'left_landing_max', 'right_landing_min', 'right_landing_max')
 
 
-def outputs_from_window(window) -> tuple:
+def outputs_from_window(window, leg_outputs: str = 'absolute') -> tuple:
     """References and bounds of y = [left leg mass, right leg mass, ZMP] for both planes.
 
     The window is used by duck typing (biped_planner.walking_reference.ReferenceWindow: arrays
@@ -26,11 +26,19 @@ def outputs_from_window(window) -> tuple:
       design, so the landing box does not apply there. Every other leg bound is +-inf. A swing
       still in progress at the end of the window gets its bound in a later cycle.
 
+    With leg_outputs 'torso_relative' (biped_mpc.linear_mpc.MpcParams.leg_outputs) the leg
+    outputs are the leg masses minus half the hip: their references are half the planned feet
+    and their landing bounds half the landing boxes.
+
     :param window: an object with the ReferenceWindow attributes (N samples)
+    :param leg_outputs: 'absolute' or 'torso_relative'
     :return: (y_ref, y_min, y_max), each of shape (2, N, 3) (m), planes x then y
     :raises InputError: if an attribute is missing, has the wrong shape, a reference is not
-        finite or a bound is NaN
+        finite or a bound is NaN, or leg_outputs is unknown
     """
+    if leg_outputs not in ('absolute', 'torso_relative'):
+        raise InputError(f"leg_outputs must be 'absolute' or 'torso_relative', got "
+                         f'{leg_outputs!r}')
     arrays = {}
     for name in _REQUIRED:
         if not hasattr(window, name):
@@ -64,6 +72,12 @@ def outputs_from_window(window) -> tuple:
         touchdown = np.flatnonzero(swinging[:-1] & ~swinging[1:])
         y_min[:, touchdown, output] = (0.5 * (lower[touchdown] + hip[touchdown])).T
         y_max[:, touchdown, output] = (0.5 * (upper[touchdown] + hip[touchdown])).T
+    if leg_outputs == 'torso_relative':
+        half_hip = 0.5 * hip.T[:, :, None]
+        legs = [OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG]
+        y_ref[:, :, legs] -= half_hip
+        y_min[:, :, legs] -= half_hip
+        y_max[:, :, legs] -= half_hip
     if not (y_min <= y_max).all():
         raise InputError('the window has a lower bound above its upper bound')
     return y_ref, y_min, y_max

@@ -46,6 +46,18 @@ Additions (not in the paper), found necessary on the PyBullet humanoid and each 
   'prediction') or from the blend with the Kalman estimate (feedback 'estimator'). Placing
   the robot at the next state of the estimate itself would turn every estimator correction
   into a position jump of the targets, i.e. a ZMP spike (a 1 mm jump in 20 ms is 5 m/s^2);
+* torso-relative leg outputs (MpcParams.leg_outputs, 'torso_relative' in the default mpc
+  parameters here): the MPC
+  tracks each leg mass minus half the torso, whose reference is half the planned foot,
+  instead of the leg mass against the midpoint of the planned foot and the planner's hip. The
+  three-mass MPC moves its torso away from the planner's (LIPM) hip to place the ZMP; with
+  the paper's absolute leg outputs every such centimetre moved the swing foot target
+  2 * leg - hip by as much and pulled the stance leg mass away from the midpoint that the
+  stance-leg projection below restores every cycle. On the PyBullet humanoid that cost the
+  three-mass controller its turning walks (0.4 / 0.2 s steps: disk up to 0.12 m steps
+  instead of 0.20 m, omnidirectional scale 0.8 instead of 1.1, push 112 N instead of 145 N;
+  scripts/scenario_probe.py --leg-outputs). The LIPM's torso follows the planner's hip, so
+  the baseline walks the same with either;
 * stance-leg projection: a stance foot does not move, so the state of its leg mass (midway
   between that sole and the hip) is set to half the torso's position, velocity and
   acceleration plus half the sole, in the command and in the estimate (constrained
@@ -85,7 +97,7 @@ from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE, LEFT, RIGH
 from biped_mpc.linear_model import (
     LEFT_LEG, N_INPUTS, N_OUTPUTS, N_PLANES, N_STATES, OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG,
     OUTPUT_ZMP, POSITION, RIGHT_LEG, state_index, TORSO)
-from biped_mpc.linear_mpc import LinearMpc, MpcParams
+from biped_mpc.linear_mpc import LEG_OUTPUTS_TORSO_RELATIVE, LinearMpc, MpcParams
 from biped_mpc.lipm_model import lipm_model, LipmParams
 from biped_mpc.qp_backends import QpStatus
 from biped_mpc.reference_adapter import outputs_from_window
@@ -140,7 +152,8 @@ class WalkingControllerParams:
     :param model: 'three_mass' (the paper) or 'lipm' (the baseline of the same shape)
     :param masses: masses and heights of the three-mass model (kg, m); the LIPM uses their
         total mass at the height of their centre of mass
-    :param mpc: MPC parameters (Ts, horizons, weights, constraints, QP backend)
+    :param mpc: MPC parameters (Ts, horizons, weights, constraints, QP backend); the default
+        tracks torso-relative leg outputs (see the module docstring)
     :param estimator: Kalman filter noise model
     :param feedback: 'prediction' (the MPC starts from the commanded state) or 'estimator'
         (from its blend with the Kalman estimate)
@@ -163,7 +176,7 @@ class WalkingControllerParams:
     robot: Any
     model: str = MODEL_THREE_MASS
     masses: ThreeMassParams = COMAN_LIKE_MASSES
-    mpc: MpcParams = MpcParams()
+    mpc: MpcParams = MpcParams(leg_outputs=LEG_OUTPUTS_TORSO_RELATIVE)
     estimator: EstimatorParams = EstimatorParams()
     feedback: str = FEEDBACK_PREDICTION
     feedback_gain: float = 1.0
@@ -656,7 +669,7 @@ class WalkingController:
 
     def _references(self, window) -> tuple:
         """MPC references of samples 1 .. Np, and the support, feet and yaw of samples 0, 1."""
-        y_ref, y_min, y_max = outputs_from_window(window)
+        y_ref, y_min, y_max = outputs_from_window(window, self.params.mpc.leg_outputs)
         n = y_ref.shape[1]
         index = np.minimum(np.arange(1, self._n_predict + 1), n - 1)
         support = np.asarray(window.support)

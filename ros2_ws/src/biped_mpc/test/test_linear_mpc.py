@@ -7,7 +7,7 @@ from scipy.linalg import solve_discrete_are
 
 from biped_mpc.condensed_prediction import move_starts
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.linear_mpc import LinearMpc, MpcParams
+from biped_mpc.linear_mpc import LEG_OUTPUTS, LinearMpc, MpcParams, tracked_outputs
 from biped_mpc.model_walk import run_walk, WalkSetup
 from biped_mpc.qp_backends import BACKENDS, QpStatus
 from biped_mpc.reference_adapter import outputs_from_window
@@ -27,8 +27,9 @@ def free_problem(n_predict, seed=0):
     return state, u_prev, y_ref, -unbounded, unbounded
 
 
-def simulated_theta(discrete, blocks):
-    """Outputs over the horizon for each unit move, by simulating the model (no condensing)."""
+def simulated_theta(discrete, blocks, c):
+    """Outputs c x over the horizon for each unit move, by simulating the model (no
+    condensing)."""
     n_predict, starts = sum(blocks), move_starts(blocks)
     columns = []
     for j, start in enumerate(starts):
@@ -38,34 +39,36 @@ def simulated_theta(discrete, blocks):
                 if i == start:
                     u[input_index] = 1.0
                 x = discrete.a @ x + discrete.b @ u
-                outputs.append(discrete.c @ x)
+                outputs.append(c @ x)
             columns.append(np.concatenate(outputs))
     return np.column_stack(columns)
 
 
-def free_response(discrete, x0, u_prev, n_predict):
+def free_response(discrete, x0, u_prev, n_predict, c):
     x, outputs = x0.copy(), []
     for _ in range(n_predict):
         x = discrete.a @ x + discrete.b @ u_prev
-        outputs.append(discrete.c @ x)
+        outputs.append(c @ x)
     return np.concatenate(outputs)
 
 
-@pytest.mark.parametrize('blocking, convention', [('spread', 'matlab'), ('hold', 'literal')])
-def test_unconstrained_mpc_is_the_least_squares_closed_form(blocking, convention):
+@pytest.mark.parametrize('blocking, convention, legs', [
+    ('spread', 'matlab', 'torso_relative'), ('hold', 'literal', 'absolute')])
+def test_unconstrained_mpc_is_the_least_squares_closed_form(blocking, convention, legs):
     params = MpcParams(n_predict=12, n_control=4, move_blocking=blocking, constraint_horizon=12,
                        zmp_constraint='off', landing_constraint='off', terminal_cost=False,
                        output_weights=(2.0, 3.0, 5.0), input_rate_weights=(0.1, 0.2, 0.3),
-                       weight_convention=convention)
+                       weight_convention=convention, leg_outputs=legs)
     mpc = LinearMpc(MODEL, params)
+    c = tracked_outputs(MODEL, legs)
     state, u_prev, y_ref, y_min, y_max = free_problem(12)
     result = mpc.solve(state, y_ref, y_min, y_max, u_prev=u_prev)
     power = 2 if convention == 'matlab' else 1
     w_out = np.tile(np.array([2.0, 3.0, 5.0]) ** power, 12)
     w_rate = np.tile(np.array([0.1, 0.2, 0.3]) ** power, 4)
-    theta = simulated_theta(mpc.discrete_model, params.blocks)
+    theta = simulated_theta(mpc.discrete_model, params.blocks, c)
     for plane in range(2):
-        error = free_response(mpc.discrete_model, state[plane], u_prev[plane], 12) \
+        error = free_response(mpc.discrete_model, state[plane], u_prev[plane], 12, c) \
             - y_ref[plane].reshape(-1)
         # minimise |sqrt(W)(Theta z + e)|^2 + |sqrt(R) z|^2 as one least-squares problem
         matrix = np.vstack([np.sqrt(w_out)[:, None] * theta, np.diag(np.sqrt(w_rate))])
@@ -80,17 +83,19 @@ def test_unconstrained_mpc_is_the_least_squares_closed_form(blocking, convention
     assert result.ok
 
 
-def test_terminal_cost_makes_the_first_move_the_infinite_horizon_lq_gain():
+@pytest.mark.parametrize('legs', LEG_OUTPUTS)
+def test_terminal_cost_makes_the_first_move_the_infinite_horizon_lq_gain(legs):
     params = MpcParams(n_predict=15, n_control=15, move_blocking='hold', constraint_horizon=15,
                        zmp_constraint='off', landing_constraint='off', terminal_cost=True,
                        output_weights=(1.0, 1.0, 4.0), input_rate_weights=(0.3, 0.3, 0.3),
-                       weight_convention='literal')
+                       weight_convention='literal', leg_outputs=legs)
     mpc = LinearMpc(MODEL, params)
     discrete = mpc.discrete_model
+    c = tracked_outputs(MODEL, legs)
     a_aug = np.block([[discrete.a, discrete.b], [np.zeros((3, 9)), np.eye(3)]])
     b_aug = np.vstack([discrete.b, np.eye(3)])
     q_aug = np.zeros((12, 12))
-    q_aug[:9, :9] = discrete.c.T @ np.diag([1.0, 1.0, 4.0]) @ discrete.c
+    q_aug[:9, :9] = c.T @ np.diag([1.0, 1.0, 4.0]) @ c
     r = 0.3 * np.eye(3)
     p = solve_discrete_are(a_aug, b_aug, q_aug, r)
     gain = np.linalg.solve(r + b_aug.T @ p @ b_aug, b_aug.T @ p @ a_aug)
@@ -103,15 +108,31 @@ def test_terminal_cost_makes_the_first_move_the_infinite_horizon_lq_gain():
         np.testing.assert_allclose(result.moves[plane, 0], expected, rtol=1e-5, atol=1e-7)
 
 
-def test_rest_at_the_reference_needs_no_move():
-    mpc = LinearMpc(MODEL, MpcParams())
+@pytest.mark.parametrize('legs, torso', [
+    ('absolute', (80 * 0.02 - 15 * 0.1 + 15 * 0.1) / 50),
+    # leg masses at 0.1 + t / 2 and -0.1 + t / 2: 80 * 0.02 = 15 * 0.1 - 15 * 0.1 + 65 t
+    ('torso_relative', 80 * 0.02 / 65)])
+def test_rest_at_the_reference_needs_no_move(legs, torso):
+    mpc = LinearMpc(MODEL, MpcParams(leg_outputs=legs))
     state = np.zeros((2, 9))
-    state[:, 0], state[:, 6] = 0.1, -0.1
-    state[:, 3] = (80 * 0.02 - 15 * 0.1 + 15 * 0.1) / 50
+    state[:, 3] = torso
+    offset = 0.5 * torso if legs == 'torso_relative' else 0.0
+    state[:, 0], state[:, 6] = 0.1 + offset, -0.1 + offset
     y_ref = np.empty((2, 80, 3))
     y_ref[:] = [0.1, -0.1, 0.02]
     result = mpc.solve(state, y_ref, y_ref - 0.05, y_ref + 0.05)
     np.testing.assert_allclose(result.jerk, 0.0, atol=1e-9)
+
+
+def test_torso_relative_legs_track_the_foot_of_the_model_hip():
+    """The leg rows are c_l - c_t / 2: a leg at its reference puts 2 c_l - c_t on the foot."""
+    c = tracked_outputs(MODEL, 'torso_relative')
+    state = np.zeros(9)
+    state[0], state[3], state[6] = 0.25, 0.1, -0.05
+    feet = 2.0 * np.array([state[0], state[6]]) - state[3]
+    np.testing.assert_allclose(2.0 * (c @ state)[:2], feet)
+    np.testing.assert_array_equal(c[2], MODEL.c[2])
+    np.testing.assert_array_equal(tracked_outputs(MODEL, 'absolute'), MODEL.c)
 
 
 def walk_cycles(paper_reference, n_cycles=120, t0=0.6):
@@ -124,7 +145,7 @@ def walk_cycles(paper_reference, n_cycles=120, t0=0.6):
     cycles = []
     for k in range(start, start + n_cycles):
         window = paper_reference.sample(log.t[k], 81, params.dt)
-        y_ref, y_min, y_max = outputs_from_window(window)
+        y_ref, y_min, y_max = outputs_from_window(window, params.leg_outputs)
         u_prev = log.jerk[k - 1]
         cycles.append((log.state[k], y_ref[:, 1:], y_min[:, 1:], y_max[:, 1:], u_prev))
     return cycles
@@ -204,14 +225,14 @@ def test_plan_is_consistent_with_the_model(reference_solutions):
     cycles, solutions = reference_solutions
     (state, *_), result = cycles[3], solutions[3]
     discrete = MODEL.discretize(0.02)
+    c = tracked_outputs(MODEL, MpcParams().leg_outputs)
     np.testing.assert_allclose(result.jerk, result.predicted_inputs[:, 0])
     for plane in range(2):
         x = state[plane]
         for i in range(80):
             x = discrete.a @ x + discrete.b @ result.predicted_inputs[plane, i]
             np.testing.assert_allclose(result.predicted_states[plane, i], x, atol=1e-9)
-        np.testing.assert_allclose(result.predicted_outputs[plane, -1], discrete.c @ x,
-                                   atol=1e-9)
+        np.testing.assert_allclose(result.predicted_outputs[plane, -1], c @ x, atol=1e-9)
 
 
 def infeasible_mpc(backend):
@@ -249,7 +270,7 @@ def test_infeasible_problem_is_a_status_and_the_shifted_plan(backend):
     ('input_weights', (float('nan'), 0.0, 0.0)), ('zmp_constraint', 'sometimes'),
     ('landing_constraint', None), ('backend', 'gurobi'), ('move_blocking', 'random'),
     ('move_blocks', (40, 40)), ('soft_quadratic_weight', 0.0), ('soft_linear_weight', -1.0),
-    ('weight_convention', 'squared'), ('terminal_cost', 'yes'),
+    ('weight_convention', 'squared'), ('terminal_cost', 'yes'), ('leg_outputs', 'feet'),
 ])
 def test_bad_parameters_raise(field, value):
     with pytest.raises(ConfigError, match=field):

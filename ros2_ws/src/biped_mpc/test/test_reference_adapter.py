@@ -48,12 +48,30 @@ def test_landing_box_bounds_the_leg_mass_at_touch_down_only():
     np.testing.assert_allclose(y_max[:, 3, 0], 0.5 * (np.array([0.85, 0.15]) + hip))
 
 
-def test_planner_window_gives_bounds_containing_the_references(paper_reference):
+def test_torso_relative_legs_are_half_the_feet_and_half_the_landing_box():
+    window = fake_window()
+    y_ref, y_min, y_max = outputs_from_window(window, 'torso_relative')
+    absolute = outputs_from_window(window)
+    half_feet = window.left_mass - 0.5 * window.hip
+    np.testing.assert_allclose(y_ref[:, :, 0], half_feet.T)
+    np.testing.assert_array_equal(y_ref[:, :, 2], absolute[0][:, :, 2])
+    np.testing.assert_allclose(y_min[:, 3, 0], 0.5 * np.array([0.75, 0.05]))
+    np.testing.assert_allclose(y_max[:, 3, 0], 0.5 * np.array([0.85, 0.15]))
+    assert np.all(np.isinf(y_min[:, :, 1]))
+
+
+@pytest.mark.parametrize('legs', ['absolute', 'torso_relative'])
+def test_planner_window_gives_bounds_containing_the_references(paper_reference, legs):
     for t0 in np.arange(0.0, paper_reference.t_end, 0.37):
         window = paper_reference.sample(float(t0), 81, 0.02)
-        y_ref, y_min, y_max = outputs_from_window(window)
+        y_ref, y_min, y_max = outputs_from_window(window, legs)
         assert np.all(y_min <= y_ref + 1e-9) and np.all(y_ref <= y_max + 1e-9)
         assert np.isfinite(y_ref).all()
+
+
+def test_unknown_leg_outputs_raise():
+    with pytest.raises(InputError, match='leg_outputs'):
+        outputs_from_window(fake_window(), 'feet')
 
 
 @pytest.mark.parametrize('mutate', [
