@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser('omni', parents=[common], help='omnidirectional setpoints')
     p.add_argument('--scale', type=float, default=1.0)
     p.add_argument('--duration', type=float, default=omni.DURATION)
-    p.add_argument('--sweep', action='store_true', help='largest command scale in 0.5..2')
+    p.add_argument('--sweep', action='store_true', help='largest command scale in 0.5..1.5')
     p = sub.add_parser('push', parents=[common], help='pushes while walking in place')
     p.add_argument('--forces', type=float, nargs='+', default=None,
                    help='N, one push each 8 s (default 80, 100, 120, 130, ... up to a fall)')

@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
-                                   write_result)
+from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
+                                   SWEEP_LIMITS, Trial, write_result)
 
 DISK_CENTRE = (0.0, 1.8)
 DISK_RADIUS = 1.35
@@ -75,7 +75,7 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
     import time
     wall0 = time.monotonic()
     steering = CircleSteering(step_length)
-    with graph_for(trial) as session:
+    with graph_for(trial, extra=SWEEP_LIMITS) as session:
         session.publish_map(disk_map())
         progress = Progress(trial)
         sim0 = session.sim_time()

@@ -10,8 +10,8 @@ import time
 
 import numpy as np
 
-from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
-                                   write_result)
+from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
+                                   SWEEP_LIMITS, Trial, write_result)
 
 STEP_TIME = 0.6     # s, the configured gait (0.4 single + 0.2 double support)
 DURATION = 36.0     # s of walk: 4 s of walking in place after the last change
@@ -34,7 +34,7 @@ def setpoint(t_walk: float, scale: float) -> tuple:
 def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
     from biped_msgs.msg import WalkCommand
     wall0 = time.monotonic()
-    with graph_for(trial) as session:
+    with graph_for(trial, extra=SWEEP_LIMITS) as session:
         progress = Progress(trial)
         sim0 = session.sim_time()
         session.send_command(command=OMNI)   # walk in place: all setpoints zero

@@ -14,7 +14,7 @@ from paper_scenarios.sweep import grid, largest_completing
 from paper_scenarios.trial import Trial
 
 DISK_LENGTHS = grid(0.08, 0.25, 0.01)      # m, the paper's range
-OMNI_SCALES = grid(0.5, 2.0, 0.05)
+OMNI_SCALES = grid(0.5, 1.5, 0.05)       # 1.5: X = 0.3 m, the command bound
 PAPER = {  # tb:summary: baseline, proposed, improvement
     'disk': (0.12, 0.22, 0.83), 'omni': (1.03, 1.16, 0.13), 'push': (100.0, 150.0, 0.50),
     'terrain': (0.0, 1.0, 1.0)}

@@ -45,16 +45,24 @@ class Trial:
         return f'{self.scenario} {self.model} {self.setting}'
 
 
+# The paper sweeps steps up to 0.25 m (disk) and commands up to 0.2 m x scale (omni): the
+# planner's teleop limit (0.2 m in its config) must not clip them; 0.3 m is the command bound.
+SWEEP_LIMITS = {'footstep_planner': ['teleop.max_step_length:=0.3']}
+
+
 @contextmanager
-def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0)):
+def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0),
+              extra: Optional[Dict[str, List[str]]] = None):
     """A started graph for the trial: its model, start pose and gait timing (single, double
-    support in s; None: the configured one), recording to the trial's bag."""
+    support in s; None: the configured one), extra node parameters, recording to its bag."""
     directory = trial.directory
     directory.mkdir(parents=True, exist_ok=True)
     bag = directory / 'bag'
     if bag.exists():
         shutil.rmtree(bag)
     overrides = {node: list(values) for node, values in trial.overrides.items()}
+    for node, values in (extra or {}).items():
+        overrides.setdefault(node, []).extend(values)
     overrides.setdefault('mpc_controller', []).append(f'model:={trial.model}')
     overrides.setdefault('simulator', []).extend(
         [f'start_x:={start[0]}', f'start_y:={start[1]}', f'start_yaw:={start[2]}'])

@@ -68,7 +68,7 @@ def test_bisection_finds_the_largest_completing_value(threshold):
 
 def test_grid_is_inclusive_and_rounded():
     assert grid(0.08, 0.25, 0.01) == [round(0.08 + 0.01 * k, 2) for k in range(18)]
-    assert grid(0.5, 2.0, 0.05)[-1] == 2.0 and np.all(np.diff(grid(0.5, 2.0, 0.05)) > 0)
+    assert grid(0.5, 1.5, 0.05)[-1] == 1.5 and np.all(np.diff(grid(0.5, 1.5, 0.05)) > 0)
 
 
 def test_push_schedule_is_the_papers():
