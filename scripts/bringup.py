@@ -51,6 +51,11 @@ KNOWN_NODES: Dict[str, NodeSpec] = {spec.name: spec for spec in [
 ]}
 
 
+# Nodes not given use_sim_time: the simulator makes the clock, and the controller keeps time by
+# the stamps of its inputs (its timers are wall-clock), so /clock would only wake it up.
+CLOCK_FREE_NODES = ('simulator', 'mpc_controller')
+
+
 def available_nodes() -> List[str]:
     """The known nodes whose executable is installed, in start order."""
     return [name for name, spec in KNOWN_NODES.items() if spec.program.exists()]
@@ -115,7 +120,7 @@ class NodeGraph:
         args = [sys.executable, str(spec.program), '--ros-args', '-r', f'__node:={name}']
         if Path(params).exists():
             args += ['--params-file', str(params)]
-        if self.options.use_sim_time and name != 'simulator':
+        if self.options.use_sim_time and name not in CLOCK_FREE_NODES:
             args += ['-p', 'use_sim_time:=true']
         if name == 'simulator':
             args += ['-p', f'backend:={self.options.backend}',

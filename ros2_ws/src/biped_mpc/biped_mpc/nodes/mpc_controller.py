@@ -1,11 +1,13 @@
 """The MPC controller node: references and sensors in, leg joint setpoints out (IK inside).
 
 Subscribes: reference_trajectory (biped_msgs/ReferenceTrajectory), joint_states
-(sensor_msgs/JointState), imu (sensor_msgs/Imu), odom
-(nav_msgs/Odometry: the pelvis pose when pelvis_source is ground_truth), zmp
+(sensor_msgs/JointState), odom (nav_msgs/Odometry: the pelvis pose, when pelvis_source is
+ground_truth) or imu (sensor_msgs/Imu: the pelvis orientation, when it is imu_kinematics), zmp
 (geometry_msgs/PointStamped, from the ankle F/T sensors), left_foot_wrench / right_foot_wrench
 (geometry_msgs/WrenchStamped: foot contacts); one control cycle runs per sensor time, once
-every one of these carries it.
+every one of these carries it. The simulator publishes joint_states last: its arrival triggers
+the cycle, which then takes the newest message of each other sensor topic (no callback per
+message), and polls again for one that is not in yet (topics have no order between them).
 Publishes: joint_commands (sensor_msgs/JointState: the 12 leg setpoints, stamped with the sensor
 time they answer), controller_diagnostics (biped_msgs/ControllerDiagnostics), sole_poses
 (geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to).
@@ -24,12 +26,14 @@ from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory
 from geometry_msgs.msg import PointStamped, Pose, PoseArray, WrenchStamped
 from nav_msgs.msg import Odometry
 import numpy as np
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, JointState
 
 from biped_mpc.errors import BipedMpcError
 from biped_mpc.linear_mpc import MpcParams
+from biped_mpc.nodes.latest_message_reader import LatestMessageReader
 from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.walking_controller import (COMAN_LIKE_MASSES, ControllerFeedback,
                                           PELVIS_GROUND_TRUTH, quaternion_matrix,
@@ -59,7 +63,11 @@ CONTROLLER_SPECS = {
 }
 
 
-SENSOR_TOPICS = ('odom', 'imu', 'zmp', 'left_foot_wrench', 'right_foot_wrench', 'joint_states')
+SENSOR_POLL_PERIOD = 0.0005  # s of wall time between takes while a sensor is not in yet
+SENSOR_POLL_TIMEOUT = 0.1  # s of wall time after joint_states: then stop polling for the rest
+SENSOR_TYPES = {'odom': Odometry, 'imu': Imu, 'zmp': PointStamped,
+                'left_foot_wrench': WrenchStamped, 'right_foot_wrench': WrenchStamped,
+                'joint_states': JointState}
 
 
 def stamp_seconds(stamp) -> float:
@@ -94,6 +102,8 @@ class MpcControllerNode(Node):
         super().__init__('mpc_controller', **kwargs)
         self._robot = coman_like()
         self.declare_parameter('solver', 'daqp')
+        # torso_relative: the controller library's default (WalkingController module docstring)
+        self.declare_parameter('leg_outputs', 'torso_relative')
         for name, default in (('contact_force', 15.0), ('stale_timeout', 0.3),
                               ('reference_wait', 0.1),
                               ('foot_length', 0.2), ('foot_width', 0.1)):
@@ -102,16 +112,22 @@ class MpcControllerNode(Node):
         self._params = declare_dataclass_parameters(
             self, WalkingControllerParams(robot=self._robot), CONTROLLER_SPECS,
             fixed={'robot': self._robot, 'masses': COMAN_LIKE_MASSES,
-                   'mpc': MpcParams(backend=get('solver')), 'estimator': EstimatorParams()})
+                   'mpc': MpcParams(backend=get('solver'), leg_outputs=get('leg_outputs')),
+                   'estimator': EstimatorParams()})
         self._controller = WalkingController(self._params)
         self._horizon = self._params.mpc.n_predict + 1
         self._standing_params = ReferenceParams(foot_length=float(get('foot_length')),
                                                 foot_width=float(get('foot_width')))
         self._leg_names = list(self._robot.leg_joint_names)
         self._reference = None
+        self._reference_start = None  # the reference's first self._horizon samples
         self._sensors = {}
+        # the pelvis from odom or from the IMU: the other one is not read, so not subscribed
+        unread = 'imu' if self._params.pelvis_source == PELVIS_GROUND_TRUTH else 'odom'
+        self._sensor_topics = tuple(topic for topic in SENSOR_TYPES if topic != unread)
+        self._poll_deadline = None
         self._last_cycle = None
-        self._pending = None  # (sensor stamp, wall time) of a complete period not yet computed
+        self._pending = None  # sensor time (s) of a complete period not yet computed
         self._last_output = None
         self._started = False
         self._command_pub = self.create_publisher(JointState, 'joint_commands', 10)
@@ -120,17 +136,21 @@ class MpcControllerNode(Node):
         self._soles_pub = self.create_publisher(PoseArray, 'sole_poses', 10)
         self.create_subscription(ReferenceTrajectory, 'reference_trajectory', self._on_reference,
                                  10)
-        # One cycle per sensor time, once every input of that time is in: topics have no
-        # ordering guarantee between them, and mixing two periods' data destabilises the loop.
-        for msg_type, topic in ((Odometry, 'odom'), (Imu, 'imu'), (PointStamped, 'zmp'),
-                                (WrenchStamped, 'left_foot_wrench'),
-                                (WrenchStamped, 'right_foot_wrench'),
-                                (JointState, 'joint_states')):
-            self.create_subscription(msg_type, topic,
-                                     lambda msg, topic=topic: self._on_sensor(topic, msg), 10)
-        # wall clock: with sim time, a ROS timer would wait for the very clock we hold up
-        self.create_timer(0.005, self._on_wait_timer,
-                          clock=Clock(clock_type=ClockType.STEADY_TIME))
+        # One cycle per sensor time, once every input of that time is in: mixing two periods'
+        # data destabilises the loop.
+        self._readers = {topic: LatestMessageReader(self, SENSOR_TYPES[topic], topic)
+                         for topic in self._sensor_topics if topic != 'joint_states'}
+        self.create_subscription(JointState, 'joint_states', self._on_joint_states, 10)
+        # Wall-clock timers (with sim time, a ROS timer would wait for the very clock we hold
+        # up). This one runs while a period's sensor messages are not all in.
+        self._poll_timer = self.create_timer(SENSOR_POLL_PERIOD, self._take_sensors, clock=Clock(
+            clock_type=ClockType.STEADY_TIME))
+        self._poll_timer.cancel()
+        # One-shot, armed while a period waits for its reference.
+        self._wait_timer = self.create_timer(float(get('reference_wait')), self._on_wait_timer,
+                                             clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._wait_timer.cancel()
+        self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
                                f'{self._params.mpc.n_predict})')
 
@@ -141,17 +161,35 @@ class MpcControllerNode(Node):
         except ValueError as error:
             self.get_logger().error(f'reference rejected: {error}', throttle_duration_sec=2.0)
             return
+        # the horizon from its first sample, cut now: references come ahead of their period
+        self._reference_start = window_from(self._reference, 0, self._horizon)
         self._try_cycle()
 
-    def _on_sensor(self, topic: str, msg) -> None:
-        self._sensors[topic] = msg
+    def _on_joint_states(self, msg: JointState) -> None:
+        self._sensors['joint_states'] = msg
+        self._poll_deadline = time.monotonic() + SENSOR_POLL_TIMEOUT
+        self._take_sensors()
+
+    def _take_sensors(self) -> None:
+        """Start the period of the newest joint_states once every sensor carries its time."""
+        for topic, reader in self._readers.items():
+            msg = reader.take()
+            if msg is not None:
+                self._sensors[topic] = msg
         stamps = {(m.header.stamp.sec, m.header.stamp.nanosec)
                   for m in self._sensors.values()}
-        if len(self._sensors) == len(SENSOR_TOPICS) and len(stamps) == 1 and \
-                stamps != {self._last_cycle}:
-            self._last_cycle = stamps.pop()
-            self._pending = (stamp_seconds(msg.header.stamp), time.monotonic())
-            self._try_cycle()
+        if len(self._sensors) == len(self._sensor_topics) and len(stamps) == 1:
+            self._poll_timer.cancel()
+            if stamps != {self._last_cycle}:
+                self._last_cycle = stamps.pop()
+                self._pending = stamp_seconds(self._sensors['joint_states'].header.stamp)
+                self._try_cycle()
+                if self._pending is not None:
+                    self._wait_timer.reset()  # from now: run it after reference_wait without it
+        elif time.monotonic() > self._poll_deadline:
+            self._poll_timer.cancel()  # a sensor is silent: the period is not computed
+        elif self._poll_timer.is_canceled():
+            self._poll_timer.reset()
 
     def _try_cycle(self, force: bool = False) -> None:
         """Run the pending period once its reference is in (or when told to stop waiting).
@@ -161,16 +199,26 @@ class MpcControllerNode(Node):
         """
         if self._pending is None:
             return
-        t = self._pending[0]
-        fresh = self._reference is not None and self._reference.t[0] >= t - 1e-6
+        fresh = self._reference is not None and self._reference.t[0] >= self._pending - 1e-6
         if fresh or force:
             self._pending = None
+            self._wait_timer.cancel()
             self._control_cycle()
 
     def _on_wait_timer(self) -> None:
-        if self._pending is not None and \
-                time.monotonic() - self._pending[1] > self.get_parameter('reference_wait').value:
-            self._try_cycle(force=True)
+        self._wait_timer.cancel()
+        self._try_cycle(force=True)
+
+    def _on_set_parameters(self, parameters) -> SetParametersResult:
+        if any(p.name == 'reference_wait' for p in parameters):
+            return SetParametersResult(successful=False,
+                                       reason='reference_wait is read at start only')
+        return SetParametersResult(successful=True)
+
+    def destroy_node(self) -> None:
+        for reader in self._readers.values():
+            reader.destroy()
+        super().destroy_node()
 
     # --- control cycle ----------------------------------------------------------------------
     def _feedback(self) -> ControllerFeedback:
@@ -203,6 +251,8 @@ class MpcControllerNode(Node):
             dt = reference.t[1] - reference.t[0] if len(reference.t) > 1 else 0.02
             if -dt <= age <= stale:
                 start = max(0, int(round(age / dt)))
+                if start == 0:
+                    return self._reference_start, None
                 return window_from(reference, start, self._horizon), None
         if self._last_output is None:
             return None, 'waiting for a reference'

@@ -2,6 +2,7 @@
 
 All message imports of biped_planner live in its nodes package; the library never sees a message.
 """
+import array
 import math
 
 from biped_msgs.msg import (CommandStatus, Footstep as FootstepMsg, FootstepPlan,
@@ -169,6 +170,20 @@ def footstep_markers(footsteps, foot_length: float, foot_width: float, frame_id:
 
 
 UNBOUNDED = 1e9  # stands for +-inf in ReferenceTrajectory bounds (CDR carries inf, users read 1e9)
+# ReferenceTrajectory's float64[] fields as (ReferenceWindow field, its columns): the feet first,
+# then the (N, 2) arrays, which are sent clipped to +-UNBOUNDED.
+REFERENCE_FEET = (('left_foot', ('left_foot_x', 'left_foot_y', 'left_foot_z')),
+                  ('left_yaw', ('left_foot_yaw',)),
+                  ('right_foot', ('right_foot_x', 'right_foot_y', 'right_foot_z')),
+                  ('right_yaw', ('right_foot_yaw',)))
+REFERENCE_PAIRS = tuple((name, (name + '_x', name + '_y')) for name in (
+    'zmp', 'hip', 'left_mass', 'right_mass', 'zmp_min', 'zmp_max', 'left_landing_min',
+    'left_landing_max', 'right_landing_min', 'right_landing_max'))
+REFERENCE_ARRAYS = REFERENCE_FEET + REFERENCE_PAIRS
+REFERENCE_COLUMNS = tuple(column for _, columns in REFERENCE_ARRAYS for column in columns)
+REFERENCE_ROW_ARRAY = tuple(name for name, columns in REFERENCE_ARRAYS for _ in columns)
+FIRST_PAIR_COLUMN = sum(len(columns) for _, columns in REFERENCE_FEET)
+FIRST_LANDING_COLUMN = REFERENCE_COLUMNS.index('left_landing_min_x')  # landing bounds last
 
 
 def reference_trajectory_msg(window, plan_id: int, dt: float, stamp) -> ReferenceTrajectory:
@@ -177,24 +192,19 @@ def reference_trajectory_msg(window, plan_id: int, dt: float, stamp) -> Referenc
     msg.header.stamp = stamp
     msg.plan_id = int(plan_id)
     msg.dt = float(dt)
-    for prefix, array in (('zmp', window.zmp), ('hip', window.hip),
-                          ('left_mass', window.left_mass), ('right_mass', window.right_mass),
-                          ('zmp_min', window.zmp_min), ('zmp_max', window.zmp_max),
-                          ('left_landing_min', window.left_landing_min),
-                          ('left_landing_max', window.left_landing_max),
-                          ('right_landing_min', window.right_landing_min),
-                          ('right_landing_max', window.right_landing_max)):
-        bounded = np.clip(array, -UNBOUNDED, UNBOUNDED)
-        setattr(msg, prefix + '_x', bounded[:, 0])
-        setattr(msg, prefix + '_y', bounded[:, 1])
-    for side, foot, yaw in (('left', window.left_foot, window.left_yaw),
-                            ('right', window.right_foot, window.right_yaw)):
-        setattr(msg, side + '_foot_x', foot[:, 0])
-        setattr(msg, side + '_foot_y', foot[:, 1])
-        setattr(msg, side + '_foot_z', foot[:, 2])
-        setattr(msg, side + '_foot_yaw', yaw)
-    msg.support = window.support.astype(np.uint8)
-    msg.step_index = window.step_index.astype(np.uint32)
+    n = len(window.t)
+    table = np.empty((len(REFERENCE_COLUMNS), n))
+    row = 0
+    for name, columns in REFERENCE_ARRAYS:
+        table[row:row + len(columns)] = np.reshape(getattr(window, name), (n, -1)).T
+        row += len(columns)
+    np.clip(table[FIRST_PAIR_COLUMN:], -UNBOUNDED, UNBOUNDED, out=table[FIRST_PAIR_COLUMN:])
+    # Copied as bytes: the message setters convert anything but an array.array element by
+    # element (10 us a field, 36 fields a message).
+    for column, values in zip(REFERENCE_COLUMNS, table):
+        setattr(msg, column, array.array('d', values.tobytes()))
+    msg.support = array.array('B', np.asarray(window.support, dtype=np.uint8).tobytes())
+    msg.step_index = array.array('I', np.asarray(window.step_index, dtype=np.uint32).tobytes())
     return msg
 
 
@@ -203,33 +213,26 @@ def window_from_reference_msg(msg: ReferenceTrajectory):
 
     :raises ValueError: when the arrays have different lengths or are not finite
     """
-    def pair(prefix: str, unbounded: bool = False) -> np.ndarray:
-        array = np.column_stack((np.asarray(getattr(msg, prefix + '_x'), dtype=float),
-                                 np.asarray(getattr(msg, prefix + '_y'), dtype=float)))
-        if unbounded:
-            array[array >= UNBOUNDED] = np.inf
-            array[array <= -UNBOUNDED] = -np.inf
-        return array
-
     n = len(msg.zmp_x)
-    feet = {side: np.column_stack([np.asarray(getattr(msg, f'{side}_foot_{axis}'), dtype=float)
-                                   for axis in 'xyz']) for side in ('left', 'right')}
-    arrays = dict(
-        zmp=pair('zmp'), hip=pair('hip'), left_mass=pair('left_mass'),
-        right_mass=pair('right_mass'), zmp_min=pair('zmp_min'), zmp_max=pair('zmp_max'),
-        left_landing_min=pair('left_landing_min', True),
-        left_landing_max=pair('left_landing_max', True),
-        right_landing_min=pair('right_landing_min', True),
-        right_landing_max=pair('right_landing_max', True),
-        left_foot=feet['left'], right_foot=feet['right'],
-        left_yaw=np.asarray(msg.left_foot_yaw, dtype=float),
-        right_yaw=np.asarray(msg.right_foot_yaw, dtype=float))
-    for name, array in arrays.items():
-        if len(array) != n:
-            raise ValueError(f'reference {name} has {len(array)} samples, zmp has {n}')
-        finite = array[np.abs(array) != np.inf] if 'landing' in name else array
-        if not np.all(np.isfinite(finite)):
-            raise ValueError(f'reference {name} is not finite')
+    fields = [getattr(msg, column) for column in REFERENCE_COLUMNS]
+    for row, values in enumerate(fields):
+        if len(values) != n:
+            raise ValueError(f'reference {REFERENCE_ROW_ARRAY[row]} has {len(values)} samples, '
+                             f'zmp has {n}')
+    # float64[] fields are array.array('d'): their buffers joined make the table in one copy
+    table = np.frombuffer(b''.join(fields), dtype=float).reshape(len(fields), n).copy()
+    landing = table[FIRST_LANDING_COLUMN:]  # +-inf: the leg is in stance
+    landing[landing >= UNBOUNDED] = np.inf
+    landing[landing <= -UNBOUNDED] = -np.inf
+    valid = np.isfinite(table)
+    valid[FIRST_LANDING_COLUMN:] = ~np.isnan(landing)
+    if not valid.all():
+        row = int(np.argmin(valid.all(axis=1)))
+        raise ValueError(f'reference {REFERENCE_ROW_ARRAY[row]} is not finite')
+    arrays, row = {}, 0
+    for name, columns in REFERENCE_ARRAYS:
+        arrays[name] = table[row] if len(columns) == 1 else table[row:row + len(columns)].T
+        row += len(columns)
     support = np.asarray(msg.support, dtype=np.uint8)
     step_index = np.asarray(msg.step_index, dtype=np.int64)
     if len(support) != n or len(step_index) != n or not np.isfinite(msg.dt) or msg.dt <= 0.0:

@@ -113,7 +113,8 @@ class FootstepPlannerNode(Node):
         self.create_subscription(PoseStamped, 'goal_pose', self._on_goal, 10)
         self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
         self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
-        self.create_subscription(Odometry, 'odom', self._on_odom, 10)
+        # odom is read until sole_poses arrive, then unsubscribed (a message every period)
+        self._odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, 10)
         self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
         self._soles_seen = False
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
@@ -147,6 +148,9 @@ class FootstepPlannerNode(Node):
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._soles_seen:
+            if self._odom_sub is not None:
+                self.destroy_subscription(self._odom_sub)
+                self._odom_sub = None
             return
         try:
             self._pose = pose2d_from_pose(msg.pose.pose)

@@ -2,15 +2,23 @@
 
 Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_state
 (biped_msgs/WalkingState: the walk's start time and phase), sole_poses (geometry_msgs/PoseArray
-from the controller: where to stand before the first walk; odom until it arrives).
+from the controller: where to stand before the first walk; odom until it arrives),
+joint_commands (sensor_msgs/JointState from the controller, on sim time: see below).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds.
+
+On sim time the controller waits for the reference of each period (lockstep). Once it has
+answered period t (its joint command stamped t), the simulator steps to t + 1 / rate, so the
+reference of that period is sent at once, while physics runs, instead of at its clock tick;
+a tick whose reference has not gone out that way (no controller yet) still sends it.
 """
 from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkingState
 from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.time import Time
+from sensor_msgs.msg import JointState
 
 from biped_planner.errors import BipedPlannerError
 from biped_planner.nodes.conversions import (feet_from_sole_poses, footsteps_from_msgs,
@@ -62,9 +70,14 @@ class ReferenceGeneratorNode(Node):
         self._pub = self.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
-        self.create_subscription(Odometry, 'odom', self._on_odom, 10)
-        self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
+        # Only needed until a walk's reference exists: then unsubscribed (each message costs a
+        # wake-up of this process at every control period).
+        self._odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, 10)
+        self._soles_sub = self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
         self._soles_seen = False
+        self._period_ns = int(round(1e9 / float(self.get_parameter('rate').value)))
+        self._sent_ns = None  # stamp of the newest reference sent
+        self.create_subscription(JointState, 'joint_commands', self._on_command, 10)
         self.create_timer(1.0 / float(self.get_parameter('rate').value), self._on_timer)
         self.get_logger().info(f'reference generator ready ({self._horizon} samples of '
                                f'{self._dt} s)')
@@ -98,6 +111,7 @@ class ReferenceGeneratorNode(Node):
         """Stand where the feet are: standing on feet placed around the pelvis instead would
         make the COM chase its own reference (the COM is not above the pelvis)."""
         if self._session.reference is not None:
+            self._unsubscribe_standing_inputs()
             return
         try:
             self._standing = feet_from_sole_poses(msg)
@@ -107,6 +121,7 @@ class ReferenceGeneratorNode(Node):
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._session.reference is not None or self._soles_seen:
+            self._unsubscribe_standing_inputs()
             return
         try:
             self._standing = feet_beside(pose2d_from_pose(msg.pose.pose),
@@ -114,13 +129,40 @@ class ReferenceGeneratorNode(Node):
         except BipedPlannerError:
             pass
 
-    def _on_timer(self) -> None:
-        now = self.get_clock().now()
-        window = self._session.window(now.nanoseconds * 1e-9, self._horizon, self._dt,
-                                      self._standing)
+    def _unsubscribe_standing_inputs(self) -> None:
+        """odom is read until sole_poses arrive, both until a walk's reference exists (it is
+        never dropped again)."""
+        if self._odom_sub is not None:
+            self.destroy_subscription(self._odom_sub)
+            self._odom_sub = None
+        if self._soles_sub is not None and self._session.reference is not None:
+            self.destroy_subscription(self._soles_sub)
+            self._soles_sub = None
+
+    def _send(self, t_ns: int) -> None:
+        """Publish the reference from t_ns (ns of the node's clock), if there is one."""
+        window = self._session.window(t_ns * 1e-9, self._horizon, self._dt, self._standing)
         if window is not None:
             self._pub.publish(reference_trajectory_msg(window, self._session.plan_id, self._dt,
-                                                       now.to_msg()))
+                                                       Time(nanoseconds=t_ns).to_msg()))
+            self._sent_ns = t_ns
+
+    def _on_command(self, msg: JointState) -> None:
+        if not self.get_clock().ros_time_is_active:
+            return
+        stamp = msg.header.stamp
+        t_ns = stamp.sec * 1_000_000_000 + stamp.nanosec + self._period_ns
+        if self._sent_ns is None or t_ns > self._sent_ns:
+            self._send(t_ns)
+
+    def _on_timer(self) -> None:
+        now_ns = self.get_clock().now().nanoseconds
+        # sent ahead: this tick's reference or the next one's is out (farther ahead: the clock
+        # went back, after a reset of the simulation)
+        sent_ahead = self._sent_ns is not None and \
+            now_ns - self._period_ns // 2 <= self._sent_ns <= now_ns + 2 * self._period_ns
+        if not sent_ahead:
+            self._send(now_ns)
 
 
 def main(args=None) -> None:

@@ -95,9 +95,10 @@ class SimulatorNode(Node):
         self.create_service(SetTerrain, 'set_terrain', self._on_set_terrain)
         self._readings = self._reset_robot()
         self._publish(self._readings)
-        # Polls at 200 Hz of wall time: real-time steps and the lockstep timeout (each wake-up
-        # of an rclpy executor costs a wait-set rebuild; lockstep steps in the command callback).
-        self.create_timer(0.005, self._on_timer, clock=self._wall)
+        # Real time: one step a tick. Lockstep steps run in the command callback, and a tick
+        # only times the controller's silence (a faster poll would only cost wake-ups).
+        self._timer = self.create_timer(self._real_time_period(), self._on_timer,
+                                        clock=self._wall)
         self.get_logger().info(
             f'{self.get_parameter("backend").value} simulator ready: {len(self._names)} joints, '
             f'{"lockstep" if self._lockstep() else "real time"}')
@@ -155,18 +156,23 @@ class SimulatorNode(Node):
         if self._lockstep() and seconds_of(msg.header.stamp) >= self._readings.time - 1e-6:
             self._step()
 
+    def _real_time_period(self) -> float:
+        """Wall seconds between steps in real time (s)."""
+        return self._period / max(1e-3, float(self.get_parameter('real_time_factor').value))
+
     def _on_timer(self) -> None:
-        waited = time.monotonic() - self._last_step_wall
+        period_ns = int(round(self._real_time_period() * 1e9))
+        if self._timer.timer_period_ns != period_ns:  # real_time_factor changed
+            self._timer.timer_period_ns = period_ns
         if self._lockstep() and self._command_sub.get_publisher_count() > 0:
+            waited = time.monotonic() - self._last_step_wall
             if waited >= float(self.get_parameter('lockstep_timeout').value):
                 self.get_logger().warning(f'no joint command for t={self._readings.time:.2f} '
                                           f'after {waited:.2f} s: stepping with the last one',
                                           throttle_duration_sec=5.0)
                 self._step()
             return
-        rate = max(1e-3, float(self.get_parameter('real_time_factor').value))
-        if waited >= self._period / rate:
-            self._step()
+        self._step()
 
     def _step(self) -> None:
         self._last_step_wall = time.monotonic()
@@ -184,16 +190,17 @@ class SimulatorNode(Node):
     def _publish(self, readings) -> None:
         stamp = stamp_of(readings.time)
         self._clock_pub.publish(Clock(clock=stamp))
-        self._imu_pub.publish(imu_msg(readings.imu, 'imu_link', stamp))
         self._odom_pub.publish(odometry_msg(readings.base, self._frame, 'pelvis', stamp))
         for pub, foot, frame in zip(self._wrench_pubs, (readings.left_foot, readings.right_foot),
                                     ('l_ankle_ft', 'r_ankle_ft')):
             pub.publish(wrench_msg(foot, frame, stamp))
         zmp = readings.zmp if np.all(np.isfinite(readings.zmp)) else (math.nan, math.nan)
         self._zmp_pub.publish(point_msg(zmp, self._frame, stamp))
-        self._com_pub.publish(point_msg(readings.com_position, self._frame, stamp))
-        # joint_states last: the controller computes when it arrives
+        # joint_states after the controller's other inputs: it computes when it arrives (and
+        # waits for imu only when it reads it); the rest goes out while it computes
         self._joint_pub.publish(joint_state_msg(readings.joints, stamp))
+        self._imu_pub.publish(imu_msg(readings.imu, 'imu_link', stamp))
+        self._com_pub.publish(point_msg(readings.com_position, self._frame, stamp))
 
     # --- services ---------------------------------------------------------------------------
     def _on_push(self, request: Push.Request, response: Push.Response) -> Push.Response:
