@@ -20,7 +20,7 @@ FIRST_PUSH = 4.0         # s after the walk start: past the initial shift, into 
 PUSH_PHASE = 0.075       # s into a single support phase (a quarter of it)
 INTERVAL = 8.0           # s between pushes (20 steps)
 DURATION = 0.1           # s
-RECOVERY = 3.0           # s of walking after the last push to call it withstood
+RECOVERY = INTERVAL      # s of walking after the last push to call it withstood (like the others)
 START = 1                # walk command START: in place
 
 

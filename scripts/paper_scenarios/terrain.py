@@ -28,20 +28,19 @@ def tile_size(area_cm2: float) -> float:
 
 
 def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENGTH,
-        side: float = SIDE) -> dict:
-    """Walk across a side x side m tiled area (tiles of area_cm2, heights from seed)."""
+        side: float = SIDE, heights: tuple = HEIGHTS) -> dict:
+    """Walk across a side x side m tiled area (tiles of area_cm2, heights (min, max) in m
+    drawn from seed)."""
     from biped_msgs.msg import WalkCommand
-    from biped_msgs.srv import SetTerrain
     wall0 = time.monotonic()
-    with graph_for(trial) as session:
-        ok = session.set_terrain(kind=SetTerrain.Request.TILES, side_length=side,
-                                 origin_x=-BEHIND, origin_y=-0.5 * side,
-                                 tile_size=tile_size(area_cm2), min_height=HEIGHTS[0],
-                                 max_height=HEIGHTS[1], seed=seed)
-        # the robot starts on the tiles, as in the paper: stand it on them, let it settle
-        if not ok or not session.reset_robot():
-            raise RuntimeError('set_terrain or reset refused')
-        session.wait_sim_time(1.0, 60.0)
+    # the simulator starts with the robot standing on the tiles, as in the paper
+    tiles = {'simulator': [
+        'terrain.kind:=1', f'terrain.side_length:={float(side)!r}',
+        f'terrain.origin_x:={-BEHIND!r}', f'terrain.origin_y:={-0.5 * side!r}',
+        f'terrain.tile_size:={tile_size(area_cm2)!r}', f'terrain.min_height:={float(heights[0])!r}',
+        f'terrain.max_height:={float(heights[1])!r}', f'terrain.seed:={int(seed)}']}
+    with graph_for(trial, extra=tiles) as session:
+        session.wait_sim_time(1.0, 60.0)  # settle on the tiles
         progress = Progress(trial)
         sim0 = session.sim_time()
         session.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
@@ -54,10 +53,14 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     pelvis = np.array(series.pelvis)
+    if result['fallen']:  # how far it walked: before it began to fall (not where it landed)
+        pelvis = pelvis[pelvis[:, 0] <= sim0 + result['fall_time_s'] - 0.5]
+    reached = float(pelvis[:, 1].max()) if len(pelvis) else 0.0
     result.update({'tile_area_cm2': area_cm2, 'side_m': side, 'seed': seed,
-                   'step_length_m': step_length, 'distance_m': round(float(pelvis[:, 1].max()), 3),
+                   'heights_m': list(heights),
+                   'step_length_m': step_length, 'distance_m': round(reached, 3),
                    'terrain_fraction_crossed': round(float(np.clip(
-                       (pelvis[:, 1].max() + BEHIND) / side, 0.0, 1.0)), 3)})
+                       (reached + BEHIND) / side, 0.0, 1.0)), 3)})
     result['success'] = bool(crossed and stood and not result['fallen'])
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)

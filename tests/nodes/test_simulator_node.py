@@ -107,6 +107,37 @@ def test_a_push_can_be_scheduled_at_a_sim_time(sim):
     assert x_at(start + 0.5) > after + 0.002      # and the push moved it then
 
 
+def test_reset_keeps_the_clock_going_forward(sim):
+    assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) >= 5, timeout=15)
+    before = sim['clock'].messages[-1].clock
+    assert call(sim, Trigger, 'reset', Trigger.Request()).success
+    count = len(sim['clock'].messages)
+    assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) >= count + 3, timeout=15)
+    stamps = [seconds(m.clock) for m in sim['clock'].messages]
+    assert all(b > a for a, b in zip(stamps, stamps[1:]))   # never back, never repeated
+    assert stamps[-1] > seconds(before)
+
+
+def seconds(stamp):
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
+def test_the_robot_can_start_standing_on_paper_tiles(ros_context, executor):
+    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('real_time_factor', value=5.0), Parameter('terrain.kind', value=1),
+        Parameter('terrain.origin_x', value=-0.5), Parameter('terrain.origin_y', value=-0.5),
+        Parameter('terrain.side_length', value=1.0), Parameter('terrain.seed', value=4)]))
+    client = executor.track(rclpy.create_node('sim_terrain_client', context=ros_context))
+    odom = Collector(client, Odometry, 'odom', 100)
+    feet = [Collector(client, WrenchStamped, f'{side}_foot_wrench', 100)
+            for side in ('left', 'right')]
+    assert odom.wait_for(executor, lambda m: len(m) >= 25, timeout=15)  # 0.5 s: settled
+    # the soles rest on tiles 25-50 mm high: the pelvis stands that much above its flat 0.54 m
+    assert 0.54 + 0.02 < odom.messages[-1].pose.pose.position.z < 0.54 + 0.06
+    assert sum(f.messages[-1].wrench.force.z for f in feet) > 150.0  # on its feet
+    assert node.get_parameter('terrain.kind').value == 1
+
+
 def test_reset_and_terrain_services(sim):
     assert call(sim, Trigger, 'reset', Trigger.Request()).success
     tiles = SetTerrain.Request(kind=SetTerrain.Request.TILES, tile_size=0.2, seed=3)

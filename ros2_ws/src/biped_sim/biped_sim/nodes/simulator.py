@@ -53,6 +53,21 @@ def seconds_of(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+def terrain_from(kind: int, side_length: float, origin_x: float, origin_y: float,
+                 tile_size: float, min_height: float, max_height: float, seed: int):
+    """The terrain of a SetTerrain request or of the terrain.* parameters (None: flat).
+
+    :raises ValueError, BipedSimError: for an unknown kind or invalid tiles
+    """
+    if kind == SetTerrain.Request.FLAT:
+        return None
+    if kind != SetTerrain.Request.TILES:
+        raise ValueError(f'kind {kind} unknown: 0 flat, 1 tiles')
+    return generate_terrain(TerrainParams(
+        tile_area=tile_size ** 2, side_length=side_length, min_height=min_height,
+        max_height=max_height, origin=(origin_x, origin_y), seed=int(seed)))
+
+
 class SimulatorNode(Node):
     """Thin adapter over a biped_sim SimulatorBackend (PyBullet or the model plant)."""
 
@@ -63,7 +78,17 @@ class SimulatorNode(Node):
                               ('leg_kp', 2000.0), ('leg_kd', 8.0), ('setpoint_parts', 4),
                               ('lockstep', True), ('lockstep_timeout', 0.5),
                               ('real_time_factor', 1.0), ('start_x', 0.0), ('start_y', 0.0),
-                              ('start_yaw', 0.0), ('frame_id', 'map')):
+                              ('start_yaw', 0.0), ('frame_id', 'map'),
+                              # terrain at start (the robot stands on it): 0 flat, 1 tiles
+                              ('terrain.kind', 0), ('terrain.side_length', 4.0),
+                              ('terrain.origin_x', -2.0), ('terrain.origin_y', -2.0),
+                              ('terrain.tile_size', 0.2), ('terrain.min_height', 0.025),
+                              ('terrain.max_height', 0.05), ('terrain.seed', 0),
+                              # camera frames (PNG, pybullet backend) for videos; '' is off
+                              ('camera.frames_dir', ''), ('camera.fps', 12.5),
+                              ('camera.width', 320), ('camera.height', 240),
+                              ('camera.distance', 2.5), ('camera.yaw', 50.0),
+                              ('camera.pitch', -20.0)):
             self.declare_parameter(name, default)
         self._frame = self.get_parameter('frame_id').value
         self._period = float(self.get_parameter('control_period').value)
@@ -78,6 +103,17 @@ class SimulatorNode(Node):
         self._wall = WallClock(clock_type=ClockType.STEADY_TIME)
         self._map_boxes = []
         self._terrain = None
+        # sim time published = offset + backend time: a reset restarts the backend's time, the
+        # clock must not go back (every node's timers and the bags follow it)
+        self._time_offset = 0.0
+        self._camera = self._make_camera()
+        get = lambda name: self.get_parameter(name).value  # noqa: E731
+        if get('terrain.kind') != SetTerrain.Request.FLAT:
+            self._terrain = terrain_from(
+                get('terrain.kind'), get('terrain.side_length'), get('terrain.origin_x'),
+                get('terrain.origin_y'), get('terrain.tile_size'), get('terrain.min_height'),
+                get('terrain.max_height'), get('terrain.seed'))
+            self._rebuild_scenery()
 
         self._clock_pub = self.create_publisher(Clock, '/clock', 10)
         self._joint_pub = self.create_publisher(JointState, 'joint_states', 10)
@@ -120,6 +156,24 @@ class SimulatorNode(Node):
             return ModelPlantBackend(coman_like())
         raise ValueError(f'backend {name!r} unknown: use pybullet or model')
 
+    def _make_camera(self):
+        """(FrameRecorder, CameraView) when camera.frames_dir is set, else None."""
+        get = lambda name: self.get_parameter(name).value  # noqa: E731
+        if not get('camera.frames_dir'):
+            return None
+        if not hasattr(self._backend, 'render'):
+            raise ValueError('camera frames need the pybullet backend')
+        from biped_sim.camera_view import CameraView
+        from biped_sim.frame_recorder import FrameRecorder
+        view = CameraView(width=int(get('camera.width')), height=int(get('camera.height')),
+                          distance=float(get('camera.distance')), yaw=float(get('camera.yaw')),
+                          pitch=float(get('camera.pitch')))
+        return FrameRecorder(get('camera.frames_dir'), float(get('camera.fps'))), view
+
+    def _now(self) -> float:
+        """Sim time of the current readings (s), as published on /clock."""
+        return self._time_offset + self._readings.time
+
     def _nominal_setpoints(self) -> np.ndarray:
         nominal = coman_like().nominal_joint_positions
         return np.array([nominal.get(name, 0.0) for name in self._names])
@@ -153,7 +207,7 @@ class SimulatorNode(Node):
             self.get_logger().error(f'joint_commands rejected: {error}',
                                     throttle_duration_sec=2.0)
             return
-        if self._lockstep() and seconds_of(msg.header.stamp) >= self._readings.time - 1e-6:
+        if self._lockstep() and seconds_of(msg.header.stamp) >= self._now() - 1e-6:
             self._step()
 
     def _real_time_period(self) -> float:
@@ -167,7 +221,7 @@ class SimulatorNode(Node):
         if self._lockstep() and self._command_sub.get_publisher_count() > 0:
             waited = time.monotonic() - self._last_step_wall
             if waited >= float(self.get_parameter('lockstep_timeout').value):
-                self.get_logger().warning(f'no joint command for t={self._readings.time:.2f} '
+                self.get_logger().warning(f'no joint command for t={self._now():.2f} '
                                           f'after {waited:.2f} s: stepping with the last one',
                                           throttle_duration_sec=5.0)
                 self._step()
@@ -186,9 +240,12 @@ class SimulatorNode(Node):
             self.get_logger().error(f'simulation step failed: {error}')
             return
         self._publish(self._readings)
+        if self._camera is not None:
+            recorder, view = self._camera
+            recorder.maybe_capture(self._now(), lambda: self._backend.render(view))
 
     def _publish(self, readings) -> None:
-        stamp = stamp_of(readings.time)
+        stamp = stamp_of(self._time_offset + readings.time)
         self._clock_pub.publish(Clock(clock=stamp))
         self._odom_pub.publish(odometry_msg(readings.base, self._frame, 'pelvis', stamp))
         for pub, foot, frame in zip(self._wrench_pubs, (readings.left_foot, readings.right_foot),
@@ -213,7 +270,7 @@ class SimulatorNode(Node):
             response.message = (f'push rejected: force {force} N (|F| <= {MAX_PUSH_FORCE}), '
                                  f'duration {request.duration} s (> 0) and point must be finite')
             return response
-        start = seconds_of(request.start)
+        start = seconds_of(request.start) - self._time_offset  # in the backend's time
         start = start if start > self._readings.time else None
         try:
             self._backend.push(ExternalPush(force=force, duration=request.duration,
@@ -223,12 +280,13 @@ class SimulatorNode(Node):
             response.success, response.message = False, f'push rejected: {error}'
             return response
         response.success = True
-        response.message = f'pushing {force} N for {request.duration} s from ' \
-                           f't={self._readings.time if start is None else start:.3f} s'
+        begins = self._time_offset + (self._readings.time if start is None else start)
+        response.message = f'pushing {force} N for {request.duration} s from t={begins:.3f} s'
         self.get_logger().info(response.message)
         return response
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
+        self._time_offset += self._readings.time + self._period
         self._readings = self._reset_robot()
         self._publish(self._readings)
         response.success, response.message = True, 'robot reset to its start pose'
@@ -239,15 +297,9 @@ class SimulatorNode(Node):
             response.success, response.message = False, 'this backend has no terrain'
             return response
         try:
-            if request.kind == SetTerrain.Request.TILES:
-                terrain = generate_terrain(TerrainParams(
-                    tile_area=request.tile_size ** 2, side_length=request.side_length,
-                    min_height=request.min_height, max_height=request.max_height,
-                    origin=(request.origin_x, request.origin_y), seed=int(request.seed)))
-            elif request.kind == SetTerrain.Request.FLAT:
-                terrain = None
-            else:
-                raise ValueError(f'kind {request.kind} unknown: 0 flat, 1 tiles')
+            terrain = terrain_from(request.kind, request.side_length, request.origin_x,
+                                   request.origin_y, request.tile_size, request.min_height,
+                                   request.max_height, request.seed)
         except (BipedSimError, ValueError) as error:
             response.success, response.message = False, f'terrain rejected: {error}'
             return response

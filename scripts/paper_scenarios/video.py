@@ -1,0 +1,25 @@
+"""A short clip of one scenario from the simulator's camera: the simulator node writes PNG
+frames (parameter camera.frames_dir) while the scenario runs; they become an animated GIF."""
+from pathlib import Path
+
+from paper_scenarios import disk, omni, push, terrain
+
+
+def run_video(args, model: str, trial_of) -> int:
+    from biped_sim.frame_recorder import frames_to_gif
+    trial = trial_of(args, args.which, model, 'video')
+    frames = trial.directory / 'frames'
+    trial.overrides = {'simulator': [f'camera.frames_dir:={frames}',
+                                     f'camera.fps:={args.fps}']}
+    if args.which == 'disk':
+        disk.run(trial, 0.15, laps=0.25)
+    elif args.which == 'omni':
+        omni.run(trial, 1.0, duration=24.0)
+    elif args.which == 'push':
+        push.run(trial, [80.0, 100.0, 120.0])
+    else:
+        terrain.run(trial, 400, seed=1, side=2.0)
+    out = Path(trial.directory) / f'{args.which}_{model}.gif'
+    count = frames_to_gif(frames, out, args.fps)
+    trial.log(f'[video] {count} frames ({count / args.fps:.0f} s of sim time) -> {out}')
+    return 0
