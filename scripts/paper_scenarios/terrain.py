@@ -37,7 +37,8 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
     tiles = {'simulator': [
         'terrain.kind:=1', f'terrain.side_length:={float(side)!r}',
         f'terrain.origin_x:={-BEHIND!r}', f'terrain.origin_y:={-0.5 * side!r}',
-        f'terrain.tile_size:={tile_size(area_cm2)!r}', f'terrain.min_height:={float(heights[0])!r}',
+        f'terrain.tile_size:={tile_size(area_cm2)!r}',
+        f'terrain.min_height:={float(heights[0])!r}',
         f'terrain.max_height:={float(heights[1])!r}', f'terrain.seed:={int(seed)}']}
     with graph_for(trial, extra=tiles) as session:
         session.wait_sim_time(1.0, 60.0)  # settle on the tiles

@@ -95,8 +95,9 @@ class Progress:
         t = session.sim_time()
         p = session.series.pelvis[-1]
         step = session.series.states[-1][2] if session.series.states else 0
-        self.trial.log(f'  [{self.trial.label}] sim {t:6.1f} s ({(t - self.sim0) / (now - self.wall0):.1f}x'
-                       f' real time), pelvis ({p[1]:+.2f}, {p[2]:+.2f}), step {step} {note}')
+        speed = (t - self.sim0) / (now - self.wall0)
+        self.trial.log(f'  [{self.trial.label}] sim {t:6.1f} s ({speed:.1f}x real time), '
+                       f'pelvis ({p[1]:+.2f}, {p[2]:+.2f}), step {step} {note}')
 
 
 def drive(session: GraphSession, on_time: Callable[[float], bool], sim_duration: float,

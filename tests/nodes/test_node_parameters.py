@@ -20,6 +20,13 @@ BAD_AT_START = [
     (MpcControllerNode, 'pelvis_source', 'gps'),
     (StateMachineNode, 'single_support', 0.0),
     (SimulatorNode, 'backend', 'banana'),
+    (SimulatorNode, 'camera.fps', 0.0),
+    (SimulatorNode, 'terrain.kind', 5),
+    (MpcControllerNode, 'solver', 'banana'),
+    (MpcControllerNode, 'leg_outputs', 'sideways'),
+    (StateMachineNode, 'update_rate', 0.0),
+    (ReferenceGeneratorNode, 'horizon', 1),
+    (FootstepPlannerNode, 'teleop_lookahead', -1),
 ]
 
 
@@ -39,6 +46,9 @@ LIVE = [
     (ReferenceGeneratorNode, 'swing_height', -0.1, False),
     (MpcControllerNode, 'tilt_gain', 0.3, False),  # the controller cannot change while running
     (StateMachineNode, 'fall.max_tilt', 0.5, True),
+    (SimulatorNode, 'real_time_factor', 0.0, False),
+    (SimulatorNode, 'real_time_factor', 2.0, True),
+    (MpcControllerNode, 'solver', 'banana', False),
 ]
 
 
@@ -52,3 +62,13 @@ def test_live_changes_are_accepted_only_in_range_and_when_honoured(executor, ros
     assert result.successful == accepted
     if not accepted:
         assert result.reason
+
+
+@pytest.mark.parametrize('node_class', [FootstepPlannerNode, ReferenceGeneratorNode,
+                                        MpcControllerNode, StateMachineNode, SimulatorNode])
+def test_every_parameter_has_a_description(executor, ros_context, node_class):
+    node = executor.track(node_class(context=ros_context))
+    names = [n for n in node._parameters if n != 'use_sim_time']
+    described = node.describe_parameters(names)
+    assert names and all(d.description for d in described), \
+        [n for n, d in zip(names, described) if not d.description]

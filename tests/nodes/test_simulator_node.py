@@ -54,10 +54,13 @@ def test_sensors_are_published_with_sim_time_and_consistent_values(sim):
 
 
 def test_lockstep_waits_for_the_controller_command(sim, ros_context):
+    assert sim['joints'].wait_for(sim['executor'], timeout=15)  # real time: no controller yet
+    # a watchdog far beyond the test's waits, so that a loaded machine cannot trigger it
+    assert sim['node'].set_parameters([Parameter('lockstep_timeout', value=30.0)])[0].successful
     commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
     assert wait_for_subscribers(sim['executor'], commands)
     spin_until(sim['executor'], lambda: False, 0.2)
-    # a controller now exists: with no answer the clock holds (until the 0.5 s timeout)
+    # a controller now exists: with no answer the clock holds (until the watchdog)
     count = len(sim['clock'].messages)
     spin_until(sim['executor'], lambda: False, 0.3)
     assert len(sim['clock'].messages) - count <= 1

@@ -42,7 +42,7 @@ from biped_mpc.walking_controller import (COMAN_LIKE_MASSES, ControllerFeedback,
 from biped_planner.footsteps import Footstep, LEFT, RIGHT
 from biped_planner.nodes.conversions import window_from_reference_msg
 from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
 from biped_planner.standing_reference import standing_window
 from biped_planner.walking_reference import ReferenceParams
 from biped_sim.robot_description import coman_like
@@ -101,13 +101,20 @@ class MpcControllerNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__('mpc_controller', **kwargs)
         self._robot = coman_like()
-        self.declare_parameter('solver', 'daqp')
-        # torso_relative: the controller library's default (WalkingController module docstring)
-        self.declare_parameter('leg_outputs', 'torso_relative')
-        for name, default in (('contact_force', 15.0), ('stale_timeout', 0.3),
-                              ('reference_wait', 0.1),
-                              ('foot_length', 0.2), ('foot_width', 0.1)):
-            self.declare_parameter(name, default)
+        declare_node_parameters(self, {
+            'solver': ('daqp', 'QP solver of the MPC', ('daqp', 'quadprog', 'casadi_qpoases',
+                                                         'casadi_osqp', 'osqp')),
+            # torso_relative: the library's default (WalkingController module docstring)
+            'leg_outputs': ('torso_relative', 'MPC leg outputs: leg masses minus half the torso'
+                            ' or the paper\'s absolute ones', ('torso_relative', 'absolute')),
+            'contact_force': (15.0, 'foot normal force above which it is in contact (N)',
+                              (0.0, 1000.0)),
+            'stale_timeout': (0.3, 'references older than this make it hold a stance (s)',
+                              (0.02, 10.0)),
+            'reference_wait': (0.1, 'wall time a period waits for its reference (s)',
+                               (0.0, 5.0)),
+            'foot_length': (0.2, 'sole length, for the standing stance (m)', (0.01, 1.0)),
+            'foot_width': (0.1, 'sole width, for the standing stance (m)', (0.01, 1.0))})
         get = lambda name: self.get_parameter(name).value  # noqa: E731
         self._params = declare_dataclass_parameters(
             self, WalkingControllerParams(robot=self._robot), CONTROLLER_SPECS,

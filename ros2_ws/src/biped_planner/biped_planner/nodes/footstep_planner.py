@@ -27,7 +27,7 @@ from biped_planner.nodes.conversions import (body_between, command_status_msg, f
                                              grid_from_msg, path_msg, pose2d_from_pose,
                                              walk_command_from_msg)
 from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
 from biped_planner.nodes.state_machine import LIMIT_SPECS
 from biped_planner.occupancy_grid import InflationParams
 from biped_planner.omnidirectional_stepper import command_from_twist, StepCommand, StepperParams
@@ -93,12 +93,13 @@ class FootstepPlannerNode(Node):
         self._limits = declare_dataclass_parameters(
             self, CommandLimits(), LIMIT_SPECS, prefix='limits.',
             on_change=lambda p: setattr(self, '_limits', p))
-        self.declare_parameter('map_frame', 'map')
-        self.declare_parameter('single_support', 0.4)
-        self.declare_parameter('double_support', 0.1)
-        self.declare_parameter('teleop_lookahead', 2)
-        self.declare_parameter('foot_length', 0.2)
-        self.declare_parameter('foot_width', 0.1)
+        declare_node_parameters(self, {
+            'map_frame': ('map', 'frame of the map, goals and plans', None),
+            'single_support': (0.4, 'single support written into every plan (s)', (0.05, 5.0)),
+            'double_support': (0.1, 'double support written into every plan (s)', (0.01, 5.0)),
+            'teleop_lookahead': (2, 'teleop steps planned beyond the one being taken', (0, 20)),
+            'foot_length': (0.2, 'sole length, for the markers (m)', (0.01, 1.0)),
+            'foot_width': (0.1, 'sole width, for the markers (m)', (0.01, 1.0))})
         self._frame = self.get_parameter('map_frame').value
         self._session = PlanSession(FootstepPlanner(planner_params), stepper_params,
                                     lookahead=self.get_parameter('teleop_lookahead').value)

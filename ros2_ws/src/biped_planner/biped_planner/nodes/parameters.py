@@ -93,3 +93,38 @@ def _build(cls, node: Node, names, prefix: str, overrides: dict, fixed: dict):
             value = tuple(value)
         values[name] = value
     return cls(**values)
+
+
+# name -> (default, description with unit, (low, high) for numbers, a tuple of allowed strings,
+# or None)
+NodeParameterSpecs = Dict[str, Tuple[object, str, Optional[tuple]]]
+
+
+def declare_node_parameters(node: Node, specs: NodeParameterSpecs) -> None:
+    """Declare a node's own parameters (those not from a dataclass) with descriptions and ranges.
+
+    Numeric ranges go into the descriptor, so rclpy refuses out-of-range values at start-up and
+    in live changes; string choices are checked here, at start-up and on every live change.
+
+    :raises ValueError: when a start-up value is not one of its allowed strings
+    """
+    choices = {}
+    for name, (default, description, bounds) in specs.items():
+        if bounds is not None and all(isinstance(b, str) for b in bounds):
+            choices[name] = tuple(bounds)
+            bounds = None
+            description = f'{description}; one of {", ".join(choices[name])}'
+        node.declare_parameter(name, default, _descriptor(name, default, description, bounds))
+        if name in choices and node.get_parameter(name).value not in choices[name]:
+            raise ValueError(f'parameter {name} = {node.get_parameter(name).value!r} must be one '
+                             f'of {choices[name]}')
+
+    def on_set(parameters) -> SetParametersResult:
+        for parameter in parameters:
+            if parameter.name in choices and parameter.value not in choices[parameter.name]:
+                return SetParametersResult(successful=False, reason=(
+                    f'{parameter.name} must be one of {choices[parameter.name]}'))
+        return SetParametersResult(successful=True)
+
+    if choices:
+        node.add_on_set_parameters_callback(on_set)

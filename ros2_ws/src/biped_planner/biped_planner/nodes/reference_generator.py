@@ -24,7 +24,7 @@ from biped_planner.errors import BipedPlannerError
 from biped_planner.nodes.conversions import (feet_from_sole_poses, footsteps_from_msgs,
                                              pose2d_from_pose, reference_trajectory_msg)
 from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
 from biped_planner.plan_session import feet_beside
 from biped_planner.reference_session import ReferenceSession
 from biped_planner.step_timing import StepTiming
@@ -58,10 +58,13 @@ class ReferenceGeneratorNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__('reference_generator', **kwargs)
         params = declare_dataclass_parameters(self, ReferenceParams(), REFERENCE_SPECS)
-        self.declare_parameter('horizon', 90)
-        self.declare_parameter('dt', 0.02)
-        self.declare_parameter('rate', 50.0)
-        self.declare_parameter('stance_width', 0.2)
+        declare_node_parameters(self, {
+            'horizon': (90, 'samples per reference (the MPC needs Np = 80)', (2, 10000)),
+            'dt': (0.02, 'sample period of the references, the MPC Ts (s)', (0.001, 1.0)),
+            'rate': (50.0, 'references per second without a controller to answer (Hz)',
+                     (0.1, 1000.0)),
+            'stance_width': (0.2, 'distance between the standing feet before a walk (m)',
+                             (0.05, 1.0))})
         self._horizon = max(2, int(self.get_parameter('horizon').value))
         self._dt = float(self.get_parameter('dt').value)
         self._session = ReferenceSession(params)

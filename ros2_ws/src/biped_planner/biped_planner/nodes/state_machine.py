@@ -18,7 +18,7 @@ from biped_planner.errors import CommandError
 from biped_planner.nodes.conversions import (command_status_msg, walk_command_from_msg,
                                              walking_state_msg)
 from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters
+from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import (detect_fall, FallDetectorParams, Phase,
                                                  StateMachineParams, Support,
@@ -63,11 +63,14 @@ class StateMachineNode(Node):
         self._limits = declare_dataclass_parameters(
             self, CommandLimits(), LIMIT_SPECS, prefix='limits.',
             on_change=lambda p: setattr(self, '_limits', p))
-        self.declare_parameter('publish_rate', 50.0)
-        self.declare_parameter('update_rate', 200.0)
-        self.declare_parameter('fall_detection', True)
-        # A teleop plan is republished every step; silence this long means the planner is gone.
-        self.declare_parameter('plan_timeout', 2.0)
+        declare_node_parameters(self, {
+            'publish_rate': (50.0, 'walking_state messages per second besides transitions (Hz)',
+                             (0.1, 1000.0)),
+            'update_rate': (200.0, 'timer checking phase ends (Hz)', (1.0, 10000.0)),
+            'fall_detection': (True, 'detect and report falls', None),
+            # A teleop plan is republished every step; silence this long: the planner is gone.
+            'plan_timeout': (2.0, 'a teleop plan silent this long ends the walk (s)',
+                             (0.1, 60.0))})
 
         self._machine = WalkingStateMachine(params)
         self._plan_id = 0

@@ -30,6 +30,7 @@ from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import Trigger
 
 from biped_planner.nodes.node_runner import run_node
+from biped_planner.nodes.parameters import declare_node_parameters
 from biped_sim.errors import BipedSimError
 from biped_sim.external_push import ExternalPush
 from biped_sim.joint_servo import step_toward
@@ -42,6 +43,46 @@ from biped_sim.terrain import generate_terrain, TerrainParams
 LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                         reliability=ReliabilityPolicy.RELIABLE)
 MAX_PUSH_FORCE = 5000.0  # N: beyond any push the robot could feel; larger requests are errors
+SIMULATOR_PARAMETERS = {
+    'backend': ('pybullet', 'physics: PyBullet humanoid or the three-mass model plant',
+                ('pybullet', 'model')),
+    'gui': (False, 'open the PyBullet GUI', None),
+    'control_mode': ('torque', 'joint control: torque (PD + gravity compensation) or position',
+                     ('torque', 'position')),
+    'control_period': (0.02, 'one controller cycle: sensor publication period (s)', (0.001, 1.0)),
+    'physics_step': (0.001, 'physics time step (s)', (1e-4, 0.02)),
+    'leg_kp': (2000.0, 'leg joint PD stiffness, capped per joint by its inertia (N m/rad)',
+               (0.0, 1e5)),
+    'leg_kd': (8.0, 'leg joint PD damping (N m s/rad)', (0.0, 1e3)),
+    'setpoint_parts': (4, 'parts of a period with interpolated setpoints (servo ramp)', (1, 20)),
+    'lockstep': (True, 'physics waits for the command answering the last sensor time', None),
+    'lockstep_timeout': (0.5, 'wall time without a command after which it steps anyway (s)',
+                         (0.01, 60.0)),
+    'real_time_factor': (1.0, 'speed of the clock without lockstep (or controller)',
+                         (0.01, 100.0)),
+    'start_x': (0.0, 'pelvis start x (m)', (-1e4, 1e4)),
+    'start_y': (0.0, 'pelvis start y (m)', (-1e4, 1e4)),
+    'start_yaw': (0.0, 'pelvis start heading (rad)', (-7.0, 7.0)),
+    'frame_id': ('map', 'frame of odom, zmp and com', None),
+    'terrain.kind': (0, 'terrain at start, the robot standing on it: 0 flat, 1 tiles', (0, 1)),
+    'terrain.side_length': (4.0, 'side of the square tiled area (m)', (0.05, 100.0)),
+    'terrain.origin_x': (-2.0, 'x of the area corner with the smallest coordinates (m)',
+                         (-1e4, 1e4)),
+    'terrain.origin_y': (-2.0, 'y of the area corner with the smallest coordinates (m)',
+                         (-1e4, 1e4)),
+    'terrain.tile_size': (0.2, 'side of a square tile (m): 0.1, 0.2, 0.25 in the paper',
+                          (0.01, 10.0)),
+    'terrain.min_height': (0.025, 'lowest tile top (m)', (0.0, 1.0)),
+    'terrain.max_height': (0.05, 'highest tile top (m)', (0.0, 1.0)),
+    'terrain.seed': (0, 'seed of the random tile heights', (0, 2 ** 31 - 1)),
+    'camera.frames_dir': ('', 'directory for PNG camera frames (pybullet); empty: off', None),
+    'camera.fps': (12.5, 'camera frames per second of sim time', (0.1, 100.0)),
+    'camera.width': (320, 'image width (pixels)', (16, 4096)),
+    'camera.height': (240, 'image height (pixels)', (16, 4096)),
+    'camera.distance': (2.5, 'camera distance from the pelvis (m)', (0.1, 100.0)),
+    'camera.yaw': (50.0, 'camera azimuth (deg)', (-360.0, 360.0)),
+    'camera.pitch': (-20.0, 'camera elevation, negative looks down (deg)', (-89.0, 89.0)),
+}
 
 
 def stamp_of(t: float) -> Time:
@@ -73,23 +114,7 @@ class SimulatorNode(Node):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('simulator', **kwargs)
-        for name, default in (('backend', 'pybullet'), ('gui', False), ('control_mode', 'torque'),
-                              ('control_period', 0.02), ('physics_step', 0.001),
-                              ('leg_kp', 2000.0), ('leg_kd', 8.0), ('setpoint_parts', 4),
-                              ('lockstep', True), ('lockstep_timeout', 0.5),
-                              ('real_time_factor', 1.0), ('start_x', 0.0), ('start_y', 0.0),
-                              ('start_yaw', 0.0), ('frame_id', 'map'),
-                              # terrain at start (the robot stands on it): 0 flat, 1 tiles
-                              ('terrain.kind', 0), ('terrain.side_length', 4.0),
-                              ('terrain.origin_x', -2.0), ('terrain.origin_y', -2.0),
-                              ('terrain.tile_size', 0.2), ('terrain.min_height', 0.025),
-                              ('terrain.max_height', 0.05), ('terrain.seed', 0),
-                              # camera frames (PNG, pybullet backend) for videos; '' is off
-                              ('camera.frames_dir', ''), ('camera.fps', 12.5),
-                              ('camera.width', 320), ('camera.height', 240),
-                              ('camera.distance', 2.5), ('camera.yaw', 50.0),
-                              ('camera.pitch', -20.0)):
-            self.declare_parameter(name, default)
+        declare_node_parameters(self, SIMULATOR_PARAMETERS)
         self._frame = self.get_parameter('frame_id').value
         self._period = float(self.get_parameter('control_period').value)
         self._backend = self._make_backend()
