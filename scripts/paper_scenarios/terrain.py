@@ -54,6 +54,7 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     pelvis = np.array(series.pelvis)
+    result['start_pelvis_z'] = round(float(pelvis[0, 3]), 4)  # on the tiles: above flat 0.54 m
     if result['fallen']:  # how far it walked: before it began to fall (not where it landed)
         pelvis = pelvis[pelvis[:, 0] <= sim0 + result['fall_time_s'] - 0.5]
     reached = float(pelvis[:, 1].max()) if len(pelvis) else 0.0
