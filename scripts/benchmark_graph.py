@@ -7,7 +7,9 @@ place, and measures on the wall clock:
   for each controller command, so this is how fast the whole graph runs);
 - control-loop latency: from the arrival of a joint_states message (the last sensor message the
   controller waits for in a period) to the arrival of the joint command answering it (same
-  stamp), both seen by one observer process subscribed to both topics.
+  stamp), both seen by one observer process subscribed to both topics; and inside the
+  controller, from its joint_states arriving to its command going out (the cycle_latency of
+  controller_diagnostics: the loop's own latency, without the DDS hops and the observer).
 
 The observer is part of the measurement, not of the graph: by default it subscribes only to what
 it measures (joint_states, joint_commands, walking_state for falls), so that it takes as little
@@ -37,9 +39,13 @@ class LatencyProbe:
     """Wall arrival times of joint_states and joint_commands, by stamp, in one client node."""
 
     def __init__(self, node) -> None:
+        from biped_msgs.msg import ControllerDiagnostics
         from sensor_msgs.msg import JointState
         self.sensor_arrival, self.command_arrival = {}, {}
+        self.controller_latency = []
         self.sim_time = 0.0
+        node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
+                                 self._on_diagnostics, 100)
         node.create_subscription(JointState, 'joint_states', self._on_sensors, 100)
         node.create_subscription(JointState, 'joint_commands', lambda m: self.command_arrival.
                                  setdefault(stamp_key(m), time.perf_counter()), 100)
@@ -47,6 +53,10 @@ class LatencyProbe:
     def _on_sensors(self, msg) -> None:
         self.sensor_arrival.setdefault(stamp_key(msg), time.perf_counter())
         self.sim_time = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+
+    def _on_diagnostics(self, msg) -> None:
+        if msg.cycle_latency > 0.0:
+            self.controller_latency.append(msg.cycle_latency)
 
     def latencies(self) -> list:
         sensors, commands = self.sensor_arrival, self.command_arrival
@@ -175,8 +185,11 @@ def measure(domain_id: int, seconds: float, observer: str) -> dict:
         rtf = (run.sim_time() - sim0) / (time.perf_counter() - wall0)
         fallen = run.fallen()
         latencies = run.probe.latencies()
+        inside = sorted(run.probe.controller_latency)
     return {'rtf': rtf, 'latency_median_ms': 1e3 * statistics.median(latencies),
             'latency_p99_ms': 1e3 * latencies[int(0.99 * (len(latencies) - 1))],
+            'controller_median_ms': 1e3 * statistics.median(inside),
+            'controller_p99_ms': 1e3 * inside[int(0.99 * (len(inside) - 1))],
             'cycles': len(latencies), 'fallen': fallen}
 
 
@@ -190,7 +203,8 @@ def main(argv=None) -> int:
                         help='client that watches the graph (see above)')
     args = parser.parse_args(argv)
     results = [measure(args.domain_id, args.seconds, args.observer) for _ in range(args.runs)]
-    for name in ('rtf', 'latency_median_ms', 'latency_p99_ms'):
+    for name in ('rtf', 'latency_median_ms', 'latency_p99_ms', 'controller_median_ms',
+                 'controller_p99_ms'):
         values = [r[name] for r in results]
         print(f'{name}: runs {", ".join(f"{v:.2f}" for v in values)}')
     rtf = statistics.median(r['rtf'] for r in results)
@@ -205,6 +219,10 @@ def main(argv=None) -> int:
     print(f'| real-time factor | {rtf:.2f}x | >= 2x |')
     print(f'| joint_states -> joint_commands latency, median | {median:.2f} ms | |')
     print(f'| joint_states -> joint_commands latency, p99 | {p99:.2f} ms | <= 2 ms |')
+    inside = [statistics.median(r[f'controller_{q}_ms'] for r in results) for q in ('median',
+                                                                               'p99')]
+    print(f'| inside the controller (joint_states in -> command out), median / p99 | '
+          f'{inside[0]:.2f} / {inside[1]:.2f} ms | |')
     print(f'| fell | {sum(r["fallen"] for r in results)} of {args.runs} runs | 0 |')
     return 0
 

@@ -60,6 +60,8 @@ def test_waits_without_reference_then_controls_and_holds_a_stance_when_it_goes_s
     ok = [d for d in g['diag'].messages if d.status == ControllerDiagnostics.OK]
     assert len(ok) > 20
     assert all(d.solve_time < 0.05 for d in ok)
+    # the cycle's own latency covers the solve (and is not a wall clock reading)
+    assert all(d.solve_time < d.cycle_latency < 1.0 for d in ok)
     assert 0.5 < g['odom'].messages[-1].pose.pose.position.z < 0.6  # still standing
     # no more references: the controller holds a stance and says so
     assert g['diag'].wait_for(g['executor'], lambda m: m[-1].status ==

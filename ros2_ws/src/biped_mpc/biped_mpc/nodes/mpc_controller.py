@@ -133,6 +133,7 @@ class MpcControllerNode(Node):
         unread = 'imu' if self._params.pelvis_source == PELVIS_GROUND_TRUTH else 'odom'
         self._sensor_topics = tuple(topic for topic in SENSOR_TYPES if topic != unread)
         self._poll_deadline = None
+        self._joint_states_arrival = None
         self._last_cycle = None
         self._pending = None  # sensor time (s) of a complete period not yet computed
         self._last_output = None
@@ -174,7 +175,8 @@ class MpcControllerNode(Node):
 
     def _on_joint_states(self, msg: JointState) -> None:
         self._sensors['joint_states'] = msg
-        self._poll_deadline = time.monotonic() + SENSOR_POLL_TIMEOUT
+        self._joint_states_arrival = time.monotonic()  # for the cycle latency diagnostic
+        self._poll_deadline = self._joint_states_arrival + SENSOR_POLL_TIMEOUT
         self._take_sensors()
 
     def _take_sensors(self) -> None:
@@ -300,6 +302,7 @@ class MpcControllerNode(Node):
         command.position = np.asarray(output.joint_setpoints, dtype=float).tolist()
         command.velocity = np.asarray(output.joint_velocities, dtype=float).tolist()
         self._command_pub.publish(command)
+        latency = time.monotonic() - self._joint_states_arrival
         self._soles_pub.publish(sole_poses_msg(output, msg.header.stamp))
         if hold_reason is not None:
             status, message = ControllerDiagnostics.HOLDING, f'holding a stance: {hold_reason}'
@@ -308,9 +311,10 @@ class MpcControllerNode(Node):
             status, message = ControllerDiagnostics.FALLBACK, 'QP failed: shifted previous plan'
         else:
             status, message = ControllerDiagnostics.OK, ''
-        self._publish_diagnostics(msg.header.stamp, output, status, message)
+        self._publish_diagnostics(msg.header.stamp, output, status, message, latency)
 
-    def _publish_diagnostics(self, stamp, output, status: int, message: str) -> None:
+    def _publish_diagnostics(self, stamp, output, status: int, message: str,
+                             latency: float = 0.0) -> None:
         diag = ControllerDiagnostics()
         diag.header.stamp = stamp
         diag.status = status
@@ -320,6 +324,7 @@ class MpcControllerNode(Node):
         diag.dt = self._params.mpc.dt
         if output is not None:
             diag.solve_time = float(output.solve_time)
+            diag.cycle_latency = float(latency)
             cost = np.asarray(output.cost, dtype=float)
             diag.cost = float(np.nansum(cost)) if np.any(np.isfinite(cost)) else math.nan
             diag.state_x = np.asarray(output.state[0], dtype=float).tolist()
