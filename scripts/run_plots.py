@@ -106,3 +106,16 @@ def zmp_figure(series, out: Path, title: str, window: Optional[tuple] = None) ->
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def save_time_figure(fig, ax, path: Path, ylabel: str, title: str) -> Path:
+    """Label a figure over simulated time, save it (110 dpi) and close it."""
+    plt = _plt()
+    ax.set_xlabel('simulated time (s)')
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(loc='lower left', fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return Path(path)

@@ -73,7 +73,7 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
 
 def plot(trial: Trial, series, result: dict, times, schedule):
     """COM velocity in x with the push bands (paper Fig. push b)."""
-    from run_plots import _plt
+    from run_plots import _plt, save_time_figure
     plt = _plt()
     com = np.array(series.com)
     t = com[:, 0]
@@ -85,13 +85,6 @@ def plot(trial: Trial, series, result: dict, times, schedule):
             break
         ax.axvspan(at, at + DURATION, color='m', alpha=0.3)
         ax.text(at, ax.get_ylim()[1] * 0.9, f'{force:.0f} N', fontsize=7, rotation=90)
-    ax.set_xlabel('simulated time (s)')
-    ax.set_ylabel('COM velocity x (m/s)')
-    ax.set_title(f'Push recovery ({trial.model}): largest withstood '
-                 f'{result["largest_withstood_n"]:.0f} N')
-    ax.legend(loc='lower left', fontsize=8)
-    fig.tight_layout()
-    path = trial.directory / 'push_com_velocity.png'
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_time_figure(fig, ax, trial.directory / 'push_com_velocity.png',
+                            'COM velocity x (m/s)', f'Push recovery ({trial.model}): largest '
+                            f'withstood {result["largest_withstood_n"]:.0f} N')

@@ -70,18 +70,12 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
 
 def plot(trial: Trial, series, result: dict):
     """COM height while crossing the tiles (paper Fig. uneven b)."""
-    from run_plots import _plt
+    from run_plots import _plt, save_time_figure
     plt = _plt()
     com = np.array(series.com)
     fig, ax = plt.subplots(figsize=(10, 4))
     ax.plot(com[:, 0], com[:, 3], 'g-', lw=1, label='COM height')
-    ax.set_xlabel('simulated time (s)')
-    ax.set_ylabel('COM z (m)')
-    ax.set_title(f'Uneven terrain ({trial.model}, tiles {result["tile_area_cm2"]} cm^2, seed '
-                 f'{result["seed"]}): {"crossed" if result["success"] else "failed"}')
-    ax.legend(loc='lower left', fontsize=8)
-    fig.tight_layout()
-    path = trial.directory / 'terrain_com_height.png'
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_time_figure(fig, ax, trial.directory / 'terrain_com_height.png', 'COM z (m)',
+                            f'Uneven terrain ({trial.model}, tiles {result["tile_area_cm2"]} '
+                            f'cm^2, seed {result["seed"]}): '
+                            f'{"crossed" if result["success"] else "failed"}')
