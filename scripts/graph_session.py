@@ -111,7 +111,6 @@ class GraphSession:
         from biped_msgs.msg import (ControllerDiagnostics, FootstepPlan, ReferenceTrajectory,
                                     WalkCommand, WalkingState)
         from biped_msgs.srv import Push, SetTerrain
-        from std_srvs.srv import Trigger
         from geometry_msgs.msg import PointStamped, PoseStamped, Twist
         from nav_msgs.msg import OccupancyGrid, Odometry, Path as PathMsg
         from rclpy.qos import DurabilityPolicy, QoSProfile
@@ -124,7 +123,6 @@ class GraphSession:
         self.cmd_vel_pub = node.create_publisher(Twist, 'cmd_vel', 10)
         self.push_client = node.create_client(Push, 'push')
         self.terrain_client = node.create_client(SetTerrain, 'set_terrain')
-        self.reset_client = node.create_client(Trigger, 'reset')
 
         def on_odom(m):
             q = m.pose.pose.orientation
@@ -243,15 +241,6 @@ class GraphSession:
             raise TimeoutError('push service not available')
         future = self.push_client.call_async(request)
         self.spin_until(future.done, 10.0)
-        return future.done() and future.result().success
-
-    def reset_robot(self) -> bool:
-        """The simulator's reset: the robot stands again at its start pose (on the terrain)."""
-        from std_srvs.srv import Trigger
-        if not self.reset_client.wait_for_service(timeout_sec=10.0):
-            raise TimeoutError('reset service not available')
-        future = self.reset_client.call_async(Trigger.Request())
-        self.spin_until(future.done, 30.0)
         return future.done() and future.result().success
 
     def set_terrain(self, **fields) -> bool:

@@ -23,8 +23,7 @@ import time
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from paper_scenarios import disk, omni, push, start_goal, summary, terrain  # noqa: E402
-from paper_scenarios.sweep import largest_completing  # noqa: E402
-from paper_scenarios.trial import Trial  # noqa: E402
+from paper_scenarios.trial import TrialFactory  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
 MODELS = ('lipm', 'three_mass')
@@ -72,54 +71,45 @@ def log(line: str) -> None:
     print(line, flush=True)
 
 
-def trial_of(args, scenario: str, model: str, setting: str, offset: int = 0) -> Trial:
-    return Trial(scenario, model, setting, args.out, args.domain_id + offset % 10,
-                 record=not args.no_bag, log=log)
+def trials_for(args, model: str) -> TrialFactory:
+    return TrialFactory(args.out, model, args.domain_id, record=not args.no_bag, log=log)
 
 
 def run_scenario(args) -> int:
     results = []
     for model in models_of(args):
-        counter = iter(range(1000))
-        if args.scenario == 'disk':
-            if args.sweep:
-                best, tried = largest_completing(summary.DISK_LENGTHS, lambda length: disk.run(
-                    trial_of(args, 'disk', model, f'{length:.2f}', next(counter)),
-                    length)['success'], first=0.15)
-                results.append({'model': model, 'largest_step_length_m': best, 'tried': tried})
-            else:
-                results.append(disk.run(trial_of(args, 'disk', model, f'{args.step_length:.2f}'),
-                                        args.step_length, args.laps))
+        trial = trials_for(args, model)
+        if args.scenario == 'disk' and args.sweep:
+            best, tried = disk.largest_step_length(trial)
+            results.append({'model': model, 'largest_step_length_m': best,
+                            'tried': summary.tried_keys(tried), 'success': best is not None})
+        elif args.scenario == 'disk':
+            results.append(disk.run(trial('disk', f'{args.step_length:.2f}'), args.step_length,
+                                    args.laps))
+        elif args.scenario == 'omni' and args.sweep:
+            best, tried = omni.largest_scale(trial, args.duration)
+            results.append({'model': model, 'largest_scale': best,
+                            'tried': summary.tried_keys(tried), 'success': best is not None})
         elif args.scenario == 'omni':
-            if args.sweep:
-                best, tried = largest_completing(summary.OMNI_SCALES, lambda scale: omni.run(
-                    trial_of(args, 'omni', model, f'{scale:.2f}', next(counter)),
-                    scale, args.duration)['success'], first=1.0)
-                results.append({'model': model, 'largest_scale': best, 'tried': tried})
-            else:
-                results.append(omni.run(trial_of(args, 'omni', model, f'{args.scale:.2f}'),
-                                        args.scale, args.duration))
+            results.append(omni.run(trial('omni', f'{args.scale:.2f}'), args.scale,
+                                    args.duration))
         elif args.scenario == 'push':
-            forces = args.forces or push.forces()
-            results.append(push.run(trial_of(args, 'push', model, 'schedule'), forces))
+            results.append(push.run(trial('push', 'schedule'), args.forces or push.forces()))
         elif args.scenario == 'terrain':
-            for area in args.tile_areas:
-                for seed in args.seeds:
-                    results.append(terrain.run(trial_of(
-                        args, 'terrain', model, f'{area:g}cm2_seed{seed}', next(counter)),
-                        area, seed, side=args.side))
+            results.extend(terrain.run(trial('terrain', f'{area:g}cm2_seed{seed}'), area, seed,
+                                       side=args.side)
+                           for area in args.tile_areas for seed in args.seeds)
         elif args.scenario == 'goal':
-            results.append(start_goal.run(trial_of(args, 'goal', model, 'paper_map')))
-    print(json.dumps(results, indent=2, default=str))
-    return 0 if all(r.get('success', r.get('largest_scale', r.get('largest_step_length_m'))
-                        is not None) for r in results) else 1
+            results.append(start_goal.run(trial('goal', 'paper_map')))
+    print(json.dumps(results, indent=2))
+    return 0 if all(r['success'] for r in results) else 1
 
 
 def run_summary(args) -> int:
     wall0 = time.monotonic()
     args.out.mkdir(parents=True, exist_ok=True)
-    per_model = {model: summary.run_model(args.out, model, args.domain_id, args.seeds, log)
-                 for model in MODELS}
+    per_model = {model: summary.run_model(args.out, model, args.domain_id, args.seeds,
+                                          not args.no_bag, log) for model in MODELS}
     table = summary.table(per_model['lipm'], per_model['three_mass'])
     table['wall_s'] = round(time.monotonic() - wall0, 1)
     table['per_model'] = per_model
@@ -137,7 +127,7 @@ def main(argv=None) -> int:
         return run_summary(args)
     if args.scenario == 'video':
         from paper_scenarios.video import run_video
-        return run_video(args, models_of(args)[-1], trial_of)
+        return run_video(args, trials_for(args, models_of(args)[-1]))
     return run_scenario(args)
 
 

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from paper_scenarios.sweep import grid, largest_completing
 from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
                                    SWEEP_LIMITS, Trial, write_result)
 
@@ -23,6 +24,7 @@ MAX_TURN = math.radians(20.0)  # per step, the planner's teleop limit
 RADIUS_TOLERANCE = 0.35  # m: the walk must stay within 2 m +- this
 RETURN_TOLERANCE = 0.5   # m: distance to the start after the lap
 OMNI = 3
+STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
 
 
 def disk_map():
@@ -127,6 +129,13 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         (laps < 1.0 or result['return_error_m'] <= RETURN_TOLERANCE))
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)
+
+
+def largest_step_length(make_trial) -> tuple:
+    """Bisection of STEP_LENGTHS from the paper's 0.15 m: (largest completing or None,
+    {length: completed}); make_trial(scenario, setting) gives each trial."""
+    return largest_completing(STEP_LENGTHS, lambda length: run(
+        make_trial('disk', f'{length:.2f}'), length)['success'], first=0.15)
 
 
 def _omni(x: float, y: float, turn: float):

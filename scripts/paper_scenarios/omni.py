@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 
+from paper_scenarios.sweep import grid, largest_completing
 from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
                                    SWEEP_LIMITS, Trial, write_result)
 
@@ -19,6 +20,7 @@ DURATION = 36.0     # s of walk: 4 s of walking in place after the last change
 SCHEDULE = ((0.0, 0.0, 0.0, 0.0), (2.0, 0.1, 0.0, 0.0), (10.0, 0.1, 0.05, 0.0),
             (20.0, 0.2, 0.05, 15.0), (32.0, 0.0, 0.0, 0.0))
 OMNI = 3
+SCALES = grid(0.5, 1.5, 0.05)  # 1.5: X = 0.3 m, the command bound
 
 
 def setpoint(t_walk: float, scale: float) -> tuple:
@@ -64,6 +66,13 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
     result['success'] = bool(completed and stood and not result['fallen'])
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)
+
+
+def largest_scale(make_trial, duration: float = DURATION) -> tuple:
+    """Bisection of SCALES from 1: (largest completing or None, {scale: completed});
+    make_trial(scenario, setting) gives each trial."""
+    return largest_completing(SCALES, lambda scale: run(
+        make_trial('omni', f'{scale:.2f}'), scale, duration)['success'], first=1.0)
 
 
 def plot(trial: Trial, series, result: dict):

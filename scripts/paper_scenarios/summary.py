@@ -10,46 +10,25 @@ import time
 from typing import Callable, Dict, List
 
 from paper_scenarios import disk, omni, push, start_goal, terrain
-from paper_scenarios.sweep import grid, largest_completing
-from paper_scenarios.trial import Trial
-
-DISK_LENGTHS = grid(0.08, 0.25, 0.01)      # m, the paper's range
-OMNI_SCALES = grid(0.5, 1.5, 0.05)       # 1.5: X = 0.3 m, the command bound
+from paper_scenarios.trial import TrialFactory
 PAPER = {  # tb:summary: baseline, proposed, improvement
     'disk': (0.12, 0.22, 0.83), 'omni': (1.03, 1.16, 0.13), 'push': (100.0, 150.0, 0.50),
     'terrain': (0.0, 1.0, 1.0)}
 
 
-class TrialFactory:
-    """Trials of one model under one output root, each on the next ROS domain of a block of 10
-    (a fresh domain per graph keeps the previous graph's discovery data out of the next)."""
-
-    def __init__(self, out: Path, model: str, domain_base: int, log: Callable) -> None:
-        self.out, self.model, self.domain_base, self.log = out, model, domain_base, log
-        self.count = 0
-
-    def __call__(self, scenario: str, setting: str) -> Trial:
-        self.count += 1
-        return Trial(scenario, self.model, setting, self.out,
-                     self.domain_base + self.count % 10, log=self.log)
-
-
-def run_model(out: Path, model: str, domain_base: int, seeds: List[int],
+def run_model(out: Path, model: str, domain_base: int, seeds: List[int], record: bool = True,
               log: Callable = print) -> Dict:
     """Every scenario for one model; writes out/<model>_results.json and returns it."""
-    trial = TrialFactory(out, model, domain_base, log)
+    trial = TrialFactory(out, model, domain_base, record, log)
     wall0 = time.monotonic()
     results = {'model': model}
-    log(f'[summary {model}] disk: step length sweep {DISK_LENGTHS[0]}..{DISK_LENGTHS[-1]} m')
-    best, tried = largest_completing(
-        DISK_LENGTHS, lambda length: disk.run(trial('disk', f'{length:.2f}'), length)['success'],
-        first=0.15)
-    results['disk'] = {'largest_step_length_m': best, 'tried': _keys(tried)}
+    log(f'[summary {model}] disk: step length sweep {disk.STEP_LENGTHS[0]}..'
+        f'{disk.STEP_LENGTHS[-1]} m')
+    best, tried = disk.largest_step_length(trial)
+    results['disk'] = {'largest_step_length_m': best, 'tried': tried_keys(tried)}
     log(f'[summary {model}] omni: command scale sweep')
-    best, tried = largest_completing(
-        OMNI_SCALES, lambda scale: omni.run(trial('omni', f'{scale:.2f}'), scale)['success'],
-        first=1.0)
-    results['omni'] = {'largest_scale': best, 'tried': _keys(tried)}
+    best, tried = omni.largest_scale(trial)
+    results['omni'] = {'largest_scale': best, 'tried': tried_keys(tried)}
     log(f'[summary {model}] push: 80, 100, 120, 130, ... N every 8 s')
     pushed = push.run(trial('push', 'schedule'), push.forces())
     results['push'] = {'largest_withstood_n': pushed['largest_withstood_n'],
@@ -69,7 +48,8 @@ def run_model(out: Path, model: str, domain_base: int, seeds: List[int],
     return results
 
 
-def _keys(tried: Dict[float, bool]) -> Dict[str, bool]:
+def tried_keys(tried: Dict[float, bool]) -> Dict[str, bool]:
+    """{setting: completed} with the settings as JSON keys."""
     return {f'{value:g}': ok for value, ok in sorted(tried.items())}
 
 

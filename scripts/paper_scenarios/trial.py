@@ -50,6 +50,22 @@ class Trial:
 SWEEP_LIMITS = {'footstep_planner': ['teleop.max_step_length:=0.3']}
 
 
+class TrialFactory:
+    """Trials of one model under one output root, each on the next ROS domain of a block of 10
+    (a fresh domain per graph keeps the previous graph's discovery data out of the next)."""
+
+    def __init__(self, out: Path, model: str, domain_base: int, record: bool = True,
+                 log: Callable[[str], None] = print) -> None:
+        self.out, self.model, self.domain_base = out, model, domain_base
+        self.record, self.log = record, log
+        self.count = 0
+
+    def __call__(self, scenario: str, setting: str) -> Trial:
+        self.count += 1
+        return Trial(scenario, self.model, setting, self.out,
+                     self.domain_base + self.count % 10, record=self.record, log=self.log)
+
+
 @contextmanager
 def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0),
               extra: Optional[Dict[str, List[str]]] = None):

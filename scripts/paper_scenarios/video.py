@@ -5,9 +5,10 @@ from pathlib import Path
 from paper_scenarios import disk, omni, push, terrain
 
 
-def run_video(args, model: str, trial_of) -> int:
+def run_video(args, make_trial) -> int:
+    """Run args.which (a short setting) with camera frames on; write the GIF beside them."""
     from biped_sim.frame_recorder import frames_to_gif
-    trial = trial_of(args, args.which, model, 'video')
+    trial = make_trial(args.which, 'video')
     frames = trial.directory / 'frames'
     trial.overrides = {'simulator': [f'camera.frames_dir:={frames}',
                                      f'camera.fps:={args.fps}']}
@@ -19,7 +20,7 @@ def run_video(args, model: str, trial_of) -> int:
         push.run(trial, [80.0, 100.0, 120.0])
     else:
         terrain.run(trial, 400, seed=1, side=2.0)
-    out = Path(trial.directory) / f'{args.which}_{model}.gif'
+    out = Path(trial.directory) / f'{args.which}_{trial.model}.gif'
     count = frames_to_gif(frames, out, args.fps)
     trial.log(f'[video] {count} frames ({count / args.fps:.0f} s of sim time) -> {out}')
     return 0
