@@ -160,18 +160,26 @@ def test_non_finite_cmd_vel_is_ignored(graph):
     assert graph['states'].messages[-1].phase == WalkingState.IDLE
 
 
-def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, executor):
-    """Only the state machine and a fake planner's single continuous plan: no extension comes."""
-    from biped_msgs.msg import Footstep
+def state_machine_and_fake_planner(ros_context, executor, name, *overrides):
+    """A state machine on sim time and a client that plays the planner: (state machine node,
+    clock, walking_state collector, footstep_plan and walk_command publishers)."""
     node = executor.track(StateMachineNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True), Parameter('plan_timeout', value=1.0)]))
-    client = executor.track(rclpy.create_node('silent_planner', context=ros_context))
+        Parameter('use_sim_time', value=True), *overrides]))
+    client = executor.track(rclpy.create_node(name, context=ros_context))
     clock = SimClock(client, executor)
     states = Collector(client, WalkingState, 'walking_state', 100)
     plans = client.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
     commands = client.create_publisher(WalkCommand, 'walk_command', 10)
     assert wait_for_subscribers(executor, commands) and wait_for_subscribers(executor, plans)
     assert wait_for_subscribers(executor, clock.publisher)
+    return node, clock, states, plans, commands
+
+
+def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, executor):
+    """Only the state machine and a fake planner's single continuous plan: no extension comes."""
+    from biped_msgs.msg import Footstep
+    node, clock, states, plans, commands = state_machine_and_fake_planner(
+        ros_context, executor, 'silent_planner', Parameter('plan_timeout', value=1.0))
     feet = [Footstep(side=i % 2, x=0.0, y=0.07 if i % 2 == 0 else -0.07) for i in range(6)]
     commands.publish(WalkCommand(command=WalkCommand.START))
     clock.advance(0.1)
@@ -187,15 +195,8 @@ def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, ex
 def test_with_a_planner_running_a_start_waits_for_the_plan(ros_context, executor):
     """Initialize shifts the COM to the plan's first support foot: no plan, no start."""
     from biped_msgs.msg import Footstep
-    executor.track(StateMachineNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True)]))
-    client = executor.track(rclpy.create_node('slow_planner', context=ros_context))
-    clock = SimClock(client, executor)
-    states = Collector(client, WalkingState, 'walking_state', 100)
-    plans = client.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
-    commands = client.create_publisher(WalkCommand, 'walk_command', 10)
-    assert wait_for_subscribers(executor, commands) and wait_for_subscribers(executor, plans)
-    assert wait_for_subscribers(executor, clock.publisher)
+    _, clock, states, plans, commands = state_machine_and_fake_planner(
+        ros_context, executor, 'slow_planner')
     commands.publish(WalkCommand(command=WalkCommand.START))
     clock.advance(0.5)
     assert states.messages[-1].phase == WalkingState.IDLE
