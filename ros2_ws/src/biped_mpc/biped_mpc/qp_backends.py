@@ -18,8 +18,11 @@ conic with DAQP, cold), 'unconstrained' (ignores every constraint: the unconstra
 -H^-1 f, a lower bound of the solve time and the closed form of tests).
 """
 import abc
+import contextlib
 from dataclasses import dataclass
 import enum
+import os
+import sys
 import time
 from typing import Callable
 
@@ -283,7 +286,8 @@ class OsqpBackend(QpBackend):
         start = self._clock()
         self._solver.update(q=linear, l=np.concatenate([self.variable_lower, lower]),
                             u=np.concatenate([self.variable_upper, upper]))
-        result = self._solver.solve(raise_error=False)
+        with _c_stdout_silenced():
+            result = self._solver.solve(raise_error=False)
         elapsed = self._clock() - start
         status = result.info.status_val
         iterations = int(result.info.iter)
@@ -306,6 +310,8 @@ class CasadiBackend(QpBackend):
 
     plugin = 'qpoases'
     exact = True
+    # the plugin's C code prints on fd 1 whatever its options say
+    prints_to_stdout = False
 
     def _setup(self):
         casadi = _import('casadi', 'casadi')
@@ -329,9 +335,10 @@ class CasadiBackend(QpBackend):
 
     def solve(self, linear, lower, upper):
         start = self._clock()
-        result = self._solver(h=self._h, g=linear, a=self._a, lba=lower, uba=upper,
-                              lbx=self._lbx, ubx=self._ubx, x0=self._x0, lam_a0=self._lam_a0,
-                              lam_x0=self._lam_x0)
+        with _c_stdout_silenced() if self.prints_to_stdout else contextlib.nullcontext():
+            result = self._solver(h=self._h, g=linear, a=self._a, lba=lower, uba=upper,
+                                  lbx=self._lbx, ubx=self._ubx, x0=self._x0,
+                                  lam_a0=self._lam_a0, lam_x0=self._lam_x0)
         elapsed = self._clock() - start
         stats = self._solver.stats()
         iterations = int(stats.get('iter_count', -1))
@@ -369,6 +376,7 @@ class CasadiOsqpBackend(CasadiBackend):
     name = 'casadi_osqp'
     plugin = 'osqp'
     exact = False
+    prints_to_stdout = True
 
     def _plugin_options(self):
         return {'warm_start_primal': True, 'warm_start_dual': True,
@@ -407,6 +415,29 @@ def make_backend(name: str, hessian: np.ndarray, constraints: np.ndarray,
     if name not in _BACKEND_CLASSES:
         raise ConfigError(f'qp backend must be one of {BACKENDS}, got {name!r}')
     return _BACKEND_CLASSES[name](hessian, constraints, variable_lower, variable_upper, clock)
+
+
+@contextlib.contextmanager
+def _c_stdout_silenced():
+    """Discard what the solver writes to standard output meanwhile.
+
+    OSQP prints "Polishing not needed - no active set detected at optimal point" on every
+    solve without an active constraint, whatever its verbose setting (osqp/osqp issue #785),
+    which at 50 Hz buries a node's log. The osqp package writes it through Python's
+    sys.stdout, CasADi's plugin to file descriptor 1: both are silenced. Output of other
+    threads to standard output during the solve is lost too, a price only the OSQP backends
+    pay.
+    """
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, 'w') as devnull:
+            os.dup2(devnull.fileno(), 1)
+            with contextlib.redirect_stdout(devnull):
+                yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 def _import(module: str, package: str):

@@ -83,3 +83,15 @@ def test_bad_matrices_raise(hessian, rows):
 def test_unknown_backend_raises():
     with pytest.raises(ConfigError, match='backend'):
         make_backend('cplex', np.eye(2), np.zeros((0, 2)), np.zeros(0), np.zeros(0))
+
+
+@pytest.mark.parametrize('backend', CONSTRAINED)
+def test_a_solve_without_active_constraints_prints_nothing(backend, capfd):
+    # OSQP's C code prints "Polishing not needed" here whatever its verbose setting
+    solver = make_backend(backend, HESSIAN, ROWS, np.zeros(0), np.zeros(0))
+    capfd.readouterr()  # qpOASES prints its banner once, when it is built
+    print('before', flush=True)
+    solution = solver.solve(-np.array([0.1, 0.2, 0.3]), np.full(2, -np.inf), np.full(2, 5.0))
+    print('after', flush=True)
+    assert solution.status == QpStatus.OPTIMAL
+    assert capfd.readouterr().out == 'before\nafter\n'
