@@ -24,6 +24,7 @@ MAX_TURN = math.radians(20.0)  # per step, the planner's teleop limit
 RADIUS_TOLERANCE = 0.35  # m: the walk must stay within 2 m +- this
 RETURN_TOLERANCE = 0.5   # m: distance to the start after the lap
 OMNI = 3
+COMMAND_DELAY = 0.25  # s of sim time after a step starts (steps of 0.4 + 0.2 s)
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
 
 
@@ -84,7 +85,7 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         com = lambda: session.series.com[-1][1:3] if session.series.com else (0.0, 0.0)  # noqa
         start = np.array(com())
         lap = LapCounter(start)
-        state = {'step': -1}
+        state = {'step': None, 'since': 0.0, 'sent': True}
 
         def planned_pose():
             """Where the plan ends (midpoint of its last two footsteps, last yaw): the new
@@ -96,13 +97,25 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
             a, b = plans[-1].footsteps[-2:]
             return (0.5 * (a.x + b.x), 0.5 * (a.y + b.y)), b.yaw
 
+        def send_command():
+            x, y, turn = steering.command(*planned_pose())
+            session.command_pub.publish(_omni(x, y, turn))
+
         def on_time(t: float) -> bool:
             lap.update(com())
-            step = session.series.states[-1][2] if session.series.states else 0
-            if step != state['step']:     # one command per step, from where the robot is now
-                state['step'] = step
-                x, y, turn = steering.command(*planned_pose())
-                session.command_pub.publish(_omni(x, y, turn))
+            if state['step'] is None:      # the first command starts the walk
+                state['step'] = 0
+                send_command()
+            states = session.series.states
+            if states and states[-1][2] != state['step']:
+                state.update(step=states[-1][2], since=_step_start(states), sent=False)
+            # One command per step, sent COMMAND_DELAY after the step starts: the plan the
+            # robot extended at the step's start has arrived by then, and the command reaches
+            # the planner long before it extends the plan again at the next step. Sent at the
+            # step change itself, it raced the planner, and near-limit outcomes varied.
+            if not state['sent'] and t >= state['since'] + COMMAND_DELAY:
+                state['sent'] = True
+                send_command()
             return lap.swept >= 2.0 * math.pi * laps
 
         step_time = 0.6
@@ -129,6 +142,15 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         (laps < 1.0 or result['return_error_m'] <= RETURN_TOLERANCE))
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)
+
+
+def _step_start(states) -> float:
+    """Sim time of the first walking state of the latest step index (published on every
+    transition, so it is the transition's time whenever the runner looks)."""
+    index = len(states) - 1
+    while index > 0 and states[index - 1][2] == states[-1][2]:
+        index -= 1
+    return states[index][0]
 
 
 def largest_step_length(make_trial) -> tuple:
