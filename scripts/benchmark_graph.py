@@ -26,7 +26,7 @@ import time
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bringup import GraphOptions, NodeGraph  # noqa: E402
-from graph_session import ALL_NODES, GraphSession  # noqa: E402
+from graph_session import ALL_NODES, close_client, GraphSession  # noqa: E402
 
 WARM_UP = 1.5  # simulated s of walking before measuring
 
@@ -97,13 +97,8 @@ class MinimalObserver:
         return self
 
     def __exit__(self, *exc) -> bool:
-        import rclpy
         if self._context is not None:
-            if self.node is not None:
-                self.executor.remove_node(self.node)
-                self.node.destroy_node()
-            self.executor.shutdown()
-            rclpy.try_shutdown(context=self._context)
+            close_client(self.executor, self.node, self._context)
             self._context = None
         self.graph.stop()
         return False

@@ -44,6 +44,17 @@ def stamp_seconds(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+def close_client(executor, node, context) -> None:
+    """Tear down a client's ROS side: its node off the executor and destroyed (if it was
+    made), the executor shut down, then its context."""
+    import rclpy
+    if node is not None:
+        executor.remove_node(node)
+        node.destroy_node()
+    executor.shutdown()
+    rclpy.try_shutdown(context=context)
+
+
 class GraphSession:
     """The whole graph, a recorder, and a client node acting for the user."""
 
@@ -94,16 +105,12 @@ class GraphSession:
         if self._context is None:
             self.graph.stop()
             return
-        import rclpy
         try:
             if self.recorder is not None:
                 self.summary = self.recorder.close(self.executor)
                 self.log('[session] ' + self.summary.lines()[0])
         finally:
-            self.executor.remove_node(self.node)
-            self.node.destroy_node()
-            self.executor.shutdown()
-            rclpy.try_shutdown(context=self._context)
+            close_client(self.executor, self.node, self._context)
             self._context = None
             self.graph.stop()
 
