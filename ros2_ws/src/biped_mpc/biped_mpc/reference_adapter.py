@@ -4,12 +4,13 @@ import numpy as np
 from biped_mpc.errors import InputError
 from biped_mpc.linear_model import (
     N_OUTPUTS, N_PLANES, OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG, OUTPUT_ZMP)
+from biped_mpc.linear_mpc import LEG_OUTPUTS, LEG_OUTPUTS_ABSOLUTE, LEG_OUTPUTS_TORSO_RELATIVE
 
 _REQUIRED = ('zmp', 'left_mass', 'right_mass', 'hip', 'zmp_min', 'zmp_max', 'left_landing_min',
              'left_landing_max', 'right_landing_min', 'right_landing_max')
 
 
-def outputs_from_window(window, leg_outputs: str = 'absolute') -> tuple:
+def outputs_from_window(window, leg_outputs: str = LEG_OUTPUTS_ABSOLUTE) -> tuple:
     """References and bounds of y = [left leg mass, right leg mass, ZMP] for both planes.
 
     The window is used by duck typing (biped_planner.walking_reference.ReferenceWindow: arrays
@@ -36,9 +37,8 @@ def outputs_from_window(window, leg_outputs: str = 'absolute') -> tuple:
     :raises InputError: if an attribute is missing, has the wrong shape, a reference is not
         finite or a bound is NaN, or leg_outputs is unknown
     """
-    if leg_outputs not in ('absolute', 'torso_relative'):
-        raise InputError(f"leg_outputs must be 'absolute' or 'torso_relative', got "
-                         f'{leg_outputs!r}')
+    if leg_outputs not in LEG_OUTPUTS:
+        raise InputError(f'leg_outputs must be one of {LEG_OUTPUTS}, got {leg_outputs!r}')
     arrays = {}
     for name in _REQUIRED:
         if not hasattr(window, name):
@@ -72,7 +72,7 @@ def outputs_from_window(window, leg_outputs: str = 'absolute') -> tuple:
         touchdown = np.flatnonzero(swinging[:-1] & ~swinging[1:])
         y_min[:, touchdown, output] = (0.5 * (lower[touchdown] + hip[touchdown])).T
         y_max[:, touchdown, output] = (0.5 * (upper[touchdown] + hip[touchdown])).T
-    if leg_outputs == 'torso_relative':
+    if leg_outputs == LEG_OUTPUTS_TORSO_RELATIVE:
         half_hip = 0.5 * hip.T[:, :, None]
         legs = [OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG]
         y_ref[:, :, legs] -= half_hip
