@@ -32,7 +32,7 @@ from rclpy.node import Node
 from sensor_msgs.msg import Imu, JointState
 
 from biped_mpc.errors import BipedMpcError
-from biped_mpc.linear_mpc import MpcParams
+from biped_mpc.linear_mpc import LEG_OUTPUTS, MpcParams
 from biped_mpc.nodes.latest_message_reader import LatestMessageReader
 from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.walking_controller import (COMAN_LIKE_MASSES, ControllerFeedback,
@@ -106,7 +106,7 @@ class MpcControllerNode(Node):
                                                          'casadi_osqp', 'osqp')),
             # torso_relative: the library's default (WalkingController module docstring)
             'leg_outputs': ('torso_relative', 'MPC leg outputs: leg masses minus half the torso'
-                            ' or the paper\'s absolute ones', ('torso_relative', 'absolute')),
+                            ' or the paper\'s absolute ones', LEG_OUTPUTS),
             'contact_force': (15.0, 'foot normal force above which it is in contact (N)',
                               (0.0, 1000.0)),
             'stale_timeout': (0.3, 'references older than this make it hold a stance (s)',
