@@ -197,6 +197,12 @@ class MpcControllerNode(Node):
                     self._wait_timer.reset()  # from now: run it after reference_wait without it
         elif time.monotonic() > self._poll_deadline:
             self._poll_timer.cancel()  # a sensor is silent: the period is not computed
+            t = self._sensors['joint_states'].header.stamp
+            late = [topic for topic in self._sensor_topics if topic not in self._sensors
+                    or self._sensors[topic].header.stamp != t]
+            self.get_logger().warning(
+                f'period t={stamp_seconds(t):.3f} s skipped: no {", ".join(late)} of that time '
+                f'within {SENSOR_POLL_TIMEOUT} s of joint_states', throttle_duration_sec=1.0)
         elif self._poll_timer.is_canceled():
             self._poll_timer.reset()
 
