@@ -25,6 +25,7 @@ class Trial:
     :param record: write a rosbag2 of the run
     :param overrides: extra node parameters, {node: ['name:=value', ...]}
     :param log: progress and messages
+    :param node_log: the graph's node log lines (bring-up prefixes them); dropped by default
     """
 
     scenario: str
@@ -35,6 +36,7 @@ class Trial:
     record: bool = True
     overrides: Dict[str, List[str]] = field(default_factory=dict)
     log: Callable[[str], None] = print
+    node_log: Callable[[str], None] = lambda line: None
 
     @property
     def directory(self) -> Path:
@@ -87,7 +89,7 @@ def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0
             overrides.setdefault(node, []).extend(
                 [f'single_support:={timing[0]}', f'double_support:={timing[1]}'])
     with GraphSession(trial.domain_id, bag_dir=bag if trial.record else None,
-                      overrides=overrides, log=lambda line: None) as session:
+                      overrides=overrides, log=trial.node_log) as session:
         session.wait_until_ready()
         yield session
 

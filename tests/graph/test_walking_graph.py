@@ -26,7 +26,7 @@ def pelvis(session):
 def test_start_to_goal_around_obstacles_arrives_and_the_bag_reads_back(tmp_path):
     from rosbags.highlevel import AnyReader
     summary = demo.run(tmp_path, domain_id_for_worker(), 'three_mass', timeout=300,
-                       log=lambda line: None)
+                       log=print)
     assert not summary['fallen']
     assert summary['finished']
     assert summary['final_error_m'] <= 0.15
@@ -59,7 +59,7 @@ def test_start_to_goal_around_obstacles_arrives_and_the_bag_reads_back(tmp_path)
 
 
 def test_teleop_cmd_vel_walks_forward_sideways_and_turning():
-    with GraphSession(domain_id_for_worker(), log=lambda line: None) as session:
+    with GraphSession(domain_id_for_worker(), log=print) as session:
         session.wait_until_ready()
         start = pelvis(session)
         session.send_velocity(vx=0.15)
@@ -81,7 +81,7 @@ def test_teleop_cmd_vel_walks_forward_sideways_and_turning():
 
 
 def test_a_push_while_walking_in_place_is_survived():
-    with GraphSession(domain_id_for_worker(), log=lambda line: None) as session:
+    with GraphSession(domain_id_for_worker(), log=print) as session:
         session.wait_until_ready()
         start = pelvis(session)
         session.send_command(command=1)  # START: walk in place
@@ -99,7 +99,7 @@ def test_a_push_while_walking_in_place_is_survived():
 
 def test_killing_the_planner_mid_walk_ends_in_a_safe_stance():
     with GraphSession(domain_id_for_worker(), keep_going=True,
-                      log=lambda line: None) as session:
+                      log=print) as session:
         session.wait_until_ready()
         session.send_velocity(vx=0.1)
         assert session.wait_sim_time(3.0, 120)

@@ -16,8 +16,9 @@ from paper_scenarios.trial import Trial  # noqa: E402
 
 
 def trial(tmp_path, scenario, setting, model='three_mass', record=False):
+    # node logs go to pytest's captured output: shown when a test fails
     return Trial(scenario, model, setting, tmp_path, domain_id_for_worker(), record=record,
-                 log=lambda line: None)
+                 log=lambda line: None, node_log=print)
 
 
 def test_a_quarter_lap_around_the_disk_keeps_near_the_2_m_circle(tmp_path):
