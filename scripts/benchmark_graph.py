@@ -79,7 +79,7 @@ class MinimalObserver:
     def __enter__(self) -> 'MinimalObserver':
         import rclpy
         from biped_msgs.msg import WalkCommand, WalkingState
-        from biped_planner.nodes.node_runner import make_executor
+        from biped_planner.node_support.node_runner import make_executor
         self.graph.start()
         try:
             self.graph.wait_until_up(60.0)

@@ -86,7 +86,7 @@ class GraphSession:
 
     def start(self, timeout: float = 60.0) -> None:
         import rclpy
-        from biped_planner.nodes.node_runner import make_executor
+        from biped_planner.node_support.node_runner import make_executor
         self.graph.start()
         self.graph.wait_until_up(timeout)
         self._context = rclpy.Context()
@@ -209,7 +209,7 @@ class GraphSession:
 
     # --- user actions -----------------------------------------------------------------------
     def publish_map(self, grid) -> None:
-        from biped_planner.nodes.conversions import grid_to_msg
+        from biped_planner.node_support.map_messages import grid_to_msg
         self.map_pub.publish(grid_to_msg(grid, 'map', self.node.get_clock().now().to_msg()))
         self.wait_for_nodes_on('/map', ('footstep_planner', 'simulator'))
 

@@ -13,7 +13,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from visualization_msgs.msg import MarkerArray
 
 from biped_planner.example_maps import paper_start_goal_example
-from biped_planner.nodes.conversions import grid_to_msg, window_from_reference_msg
+from biped_planner.node_support.map_messages import grid_to_msg
+from biped_planner.node_support.reference_messages import window_from_reference_msg
 from biped_planner.nodes.footstep_planner import FootstepPlannerNode
 from biped_planner.nodes.reference_generator import ReferenceGeneratorNode
 from biped_planner.nodes.state_machine import StateMachineNode

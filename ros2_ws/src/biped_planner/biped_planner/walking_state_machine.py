@@ -10,6 +10,7 @@ import math
 from typing import List, Optional
 
 from biped_planner.errors import CommandError, ConfigError
+from biped_planner.sides import SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
 
 
 class Phase(enum.IntEnum):
@@ -23,11 +24,11 @@ class Phase(enum.IntEnum):
 
 
 class Support(enum.IntEnum):
-    """Which foot carries the robot; the values are those of biped_msgs/WalkingState."""
+    """Which foot carries the robot (biped_planner.sides, the values of biped_msgs)."""
 
-    LEFT = 0
-    RIGHT = 1
-    BOTH = 2
+    LEFT = SUPPORT_LEFT
+    RIGHT = SUPPORT_RIGHT
+    DOUBLE = SUPPORT_DOUBLE
 
 
 @dataclass(frozen=True)
@@ -73,7 +74,7 @@ class WalkingStatus:
     """
 
     phase: Phase = Phase.IDLE
-    support: Support = Support.BOTH
+    support: Support = Support.DOUBLE
     step_index: int = 0
     phase_start: float = 0.0
     phase_duration: float = 0.0
@@ -199,7 +200,7 @@ class WalkingStateMachine:
         """Enter Fallen (from any phase but Fallen)."""
         if self._status.phase == Phase.FALLEN:
             return []
-        return [self._enter(Phase.FALLEN, t, reason, support=Support.BOTH)]
+        return [self._enter(Phase.FALLEN, t, reason, support=Support.DOUBLE)]
 
     def reset(self, t: float) -> List[WalkingStatus]:
         """Leave Fallen for Idle (the robot stands again)."""
@@ -237,7 +238,7 @@ class WalkingStateMachine:
                                support=self._first_support)
         if status.phase == Phase.SINGLE_SUPPORT:
             return self._enter(Phase.DOUBLE_SUPPORT, t, 'swing foot landed',
-                               support=Support.BOTH)
+                               support=Support.DOUBLE)
         # End of a double support: one step done.
         steps = status.step_index + 1
         if status.stop_requested and not self._plan_driven:
@@ -258,7 +259,7 @@ class WalkingStateMachine:
             Phase.SINGLE_SUPPORT: self._timing.single_support,
             Phase.DOUBLE_SUPPORT: self._timing.double_support,
         }
-        changes.setdefault('support', Support.BOTH)
+        changes.setdefault('support', Support.DOUBLE)
         if phase in (Phase.IDLE, Phase.FALLEN):
             changes['stop_requested'] = False
         self._status = replace(self._status, phase=phase, phase_start=t,

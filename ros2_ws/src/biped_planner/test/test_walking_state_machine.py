@@ -33,7 +33,7 @@ def test_start_runs_initialize_then_alternating_supports_with_configured_timing(
     assert starts[:5] == pytest.approx([1.0, 1.4, 1.5, 1.9, 2.0], abs=1e-12)
     supports = [s.support for s in transitions if s.phase == Phase.SINGLE_SUPPORT]
     assert supports[:3] == [Support.RIGHT, Support.LEFT, Support.RIGHT]
-    assert all(s.support == Support.BOTH for s in transitions if s.phase ==
+    assert all(s.support == Support.DOUBLE for s in transitions if s.phase ==
                Phase.DOUBLE_SUPPORT)
     assert [s.step_index for s in transitions if s.phase == Phase.SINGLE_SUPPORT][:3] == [0, 1, 2]
 

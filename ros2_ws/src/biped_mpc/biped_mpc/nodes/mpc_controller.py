@@ -40,9 +40,10 @@ from biped_mpc.walking_controller import (COMAN_LIKE_MASSES, ControllerFeedback,
                                           STATUS_MPC_FALLBACK, WalkingController,
                                           WalkingControllerParams)
 from biped_planner.footsteps import Footstep, LEFT, RIGHT
-from biped_planner.nodes.conversions import window_from_reference_msg
-from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
+from biped_planner.node_support.reference_messages import window_from_reference_msg
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
+                                                             declare_node_parameters)
 from biped_planner.standing_reference import standing_window
 from biped_planner.walking_reference import ReferenceParams
 from biped_sim.robot_description import coman_like

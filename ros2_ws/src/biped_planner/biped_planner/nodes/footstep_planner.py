@@ -21,13 +21,15 @@ from biped_planner.errors import (BipedPlannerError, CommandError, GoalOccupiedE
                                   GoalOutsideMapError, MapError, NoPathError,
                                   StartOccupiedError, StartOutsideMapError)
 from biped_planner.footstep_planner import FootstepPlanner, FootstepPlannerParams
+from biped_planner.node_support.map_messages import grid_from_msg
 from biped_planner.nodes.conversions import (body_between, command_status_msg, failed_plan_msg,
                                              feet_from_sole_poses,
                                              footstep_markers, footstep_plan_msg,
-                                             grid_from_msg, path_msg, pose2d_from_pose,
+                                             path_msg, pose2d_from_pose,
                                              walk_command_from_msg)
-from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
+                                                             declare_node_parameters)
 from biped_planner.nodes.state_machine import LIMIT_SPECS
 from biped_planner.occupancy_grid import InflationParams
 from biped_planner.omnidirectional_stepper import command_from_twist, StepCommand, StepperParams

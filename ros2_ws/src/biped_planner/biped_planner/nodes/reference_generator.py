@@ -21,10 +21,12 @@ from rclpy.time import Time
 from sensor_msgs.msg import JointState
 
 from biped_planner.errors import BipedPlannerError
+from biped_planner.node_support.reference_messages import reference_trajectory_msg
 from biped_planner.nodes.conversions import (feet_from_sole_poses, footsteps_from_msgs,
-                                             pose2d_from_pose, reference_trajectory_msg)
-from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
+                                             pose2d_from_pose)
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
+                                                             declare_node_parameters)
 from biped_planner.plan_session import feet_beside
 from biped_planner.reference_session import ReferenceSession
 from biped_planner.step_timing import StepTiming

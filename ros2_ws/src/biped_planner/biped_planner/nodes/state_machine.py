@@ -17,8 +17,9 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from biped_planner.errors import CommandError
 from biped_planner.nodes.conversions import (command_status_msg, walk_command_from_msg,
                                              walking_state_msg)
-from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_dataclass_parameters, declare_node_parameters
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
+                                                             declare_node_parameters)
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import (detect_fall, FallDetectorParams, Phase,
                                                  StateMachineParams, Support,

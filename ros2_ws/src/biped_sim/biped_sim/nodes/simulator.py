@@ -29,8 +29,8 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import Trigger
 
-from biped_planner.nodes.node_runner import run_node
-from biped_planner.nodes.parameters import declare_node_parameters
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.dataclass_parameters import declare_node_parameters
 from biped_sim.errors import BipedSimError
 from biped_sim.external_push import ExternalPush
 from biped_sim.joint_servo import step_toward

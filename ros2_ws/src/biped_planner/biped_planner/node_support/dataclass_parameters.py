@@ -13,6 +13,8 @@ from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescr
                                 SetParametersResult)
 from rclpy.node import Node
 
+from biped_planner.parameter_fields import field_specs
+
 T = TypeVar('T')
 # field name -> (description with unit, (low, high) or None)
 ParameterSpecs = Dict[str, Tuple[str, Optional[Tuple[float, float]]]]
@@ -20,12 +22,13 @@ ParameterSpecs = Dict[str, Tuple[str, Optional[Tuple[float, float]]]]
 
 def _descriptor(name: str, value, description: str, bounds) -> ParameterDescriptor:
     descriptor = ParameterDescriptor(name=name, description=description)
-    if bounds is None:
+    if bounds is None or isinstance(value, bool):
+        return descriptor
+    if all(isinstance(b, str) for b in bounds):
+        descriptor.description = f'{description}; one of {", ".join(bounds)}'
         return descriptor
     low, high = bounds
-    if isinstance(value, bool):
-        return descriptor
-    if isinstance(value, int):
+    if isinstance(value, int) and math.isfinite(low) and math.isfinite(high):
         descriptor.integer_range = [IntegerRange(from_value=int(low), to_value=int(high), step=1)]
     elif isinstance(value, float) and math.isfinite(low) and math.isfinite(high):
         descriptor.floating_point_range = [
@@ -41,7 +44,8 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
 
     :param node: the node that owns the parameters
     :param defaults: a dataclass instance whose values are the defaults
-    :param specs: description (with unit) and allowed range of each field; every field needs one
+    :param specs: description (with unit) and allowed range of each field that is not declared
+        with biped_planner.parameter_fields.parameter (those carry their own)
     :param prefix: parameter name prefix, e.g. 'timing.' (empty: the field names)
     :param on_change: called with the new dataclass after an accepted live change; None makes
         every live change of these parameters rejected (the node cannot honour it)
@@ -52,6 +56,8 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
     cls: Type[T] = type(defaults)
     fixed = dict(fixed or {})
     names = [f.name for f in dataclasses.fields(cls) if f.name not in fixed]
+    specs = {**{name: (spec.description, spec.bounds)
+                for name, spec in field_specs(cls).items()}, **specs}
     missing = [n for n in names if n not in specs]
     if missing:
         raise KeyError(f'no parameter description for {cls.__name__} fields {missing}')

@@ -1,0 +1,80 @@
+"""Rotations of the whole stack: quaternions (x, y, z, w, the ROS order), matrices, headings.
+
+One module so that every package converts the same way; each function is checked against
+scipy.spatial.transform.Rotation in test_rotations.py.
+"""
+import math
+
+import numpy as np
+
+
+def quaternion_to_matrix(quaternion) -> np.ndarray:
+    """Rotation matrix of a unit quaternion.
+
+    :param quaternion: (4,) unit quaternion (x, y, z, w)
+    :return: (3, 3) rotation matrix
+    """
+    x, y, z, w = quaternion
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def yaw_of_quaternion(quaternion) -> float:
+    """Heading (rotation about the world z axis, Z-Y-X Euler yaw) of a quaternion.
+
+    :param quaternion: (4,) quaternion (x, y, z, w), normalised or not
+    :return: yaw in (-pi, pi] (rad)
+    """
+    x, y, z, w = quaternion
+    return math.atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z)
+
+
+def yaw_of_matrix(rotation: np.ndarray) -> float:
+    """Heading (Z-Y-X Euler yaw) of a rotation matrix (rad)."""
+    return math.atan2(rotation[1, 0], rotation[0, 0])
+
+
+def roll_pitch_of_matrix(rotation: np.ndarray) -> tuple:
+    """(roll, pitch) of the Z-Y-X Euler angles of a rotation matrix (rad)."""
+    return (math.atan2(rotation[2, 1], rotation[2, 2]),
+            math.atan2(-rotation[2, 0], math.hypot(rotation[2, 1], rotation[2, 2])))
+
+
+def quaternion_from_yaw(yaw: float) -> np.ndarray:
+    """(4,) quaternion (x, y, z, w) of a rotation by yaw about z."""
+    return np.array([0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)])
+
+
+def rotation_x(angle: float) -> np.ndarray:
+    """(3, 3) rotation about x by angle (rad)."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rotation_y(angle: float) -> np.ndarray:
+    """(3, 3) rotation about y by angle (rad)."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rotation_z(angle: float) -> np.ndarray:
+    """(3, 3) rotation about z by angle (rad)."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def tilt_of_quaternion(quaternion) -> float:
+    """Angle between the body z axis and the world z axis (rad), whatever the heading."""
+    x, y, _, _ = quaternion
+    return math.acos(max(-1.0, min(1.0, 1.0 - 2.0 * (x * x + y * y))))
+
+
+def wrap_angle(angle: float) -> float:
+    """Angle wrapped to [-pi, pi) (rad)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def mean_angle(a: float, b: float) -> float:
+    """The angle midway between a and b along the shorter arc (rad)."""
+    return a + 0.5 * math.atan2(math.sin(b - a), math.cos(b - a))
