@@ -17,10 +17,13 @@ PYTHON = sys.executable
 
 
 def domain_id_for_worker() -> int:
-    """A ROS_DOMAIN_ID per pytest-xdist worker (80, 81, ...), so parallel runs never cross-talk."""
+    """A ROS_DOMAIN_ID per pytest-xdist worker (80, 81, ...), so parallel runs never cross-talk.
+
+    BIPED_TEST_DOMAIN_BASE moves the range, for two test runs on one machine at once.
+    """
     worker = os.environ.get('PYTEST_XDIST_WORKER', 'gw0')
     index = int(worker[2:]) if worker.startswith('gw') and worker[2:].isdigit() else 0
-    return 80 + index % 20
+    return int(os.environ.get('BIPED_TEST_DOMAIN_BASE', '80')) + index % 20
 
 
 def ros_environment() -> dict:
