@@ -24,58 +24,12 @@ import math
 import numpy as np
 
 from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.robot_model import LegGeometry
 
 IK_REACHABLE = 0
 IK_CLIPPED = 1
 LEFT = 0
 RIGHT = 1
-
-
-def _vector(name: str, value, size: int) -> tuple:
-    array = np.asarray(value, dtype=float)
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise ConfigError('%s = %r must be %d finite numbers' % (name, value, size))
-    return tuple(float(v) for v in array)
-
-
-@dataclass(frozen=True)
-class LegGeometry:
-    """Leg dimensions for the analytic IK (same fields as biped_sim's LegGeometry).
-
-    :param hip_offset: left hip centre in the pelvis frame (m); the right one mirrors y.
-    :param thigh_length: hip centre to knee axis (m), > 0.
-    :param shank_length: knee axis to ankle centre (m), > 0.
-    :param ankle_to_sole: left sole centre from the ankle centre, foot frame (m); right mirrors y.
-    :param joint_lower: (12,) lower joint limits, left leg then right leg (rad).
-    :param joint_upper: (12,) upper joint limits (rad), above joint_lower.
-    """
-
-    hip_offset: tuple
-    thigh_length: float
-    shank_length: float
-    ankle_to_sole: tuple
-    joint_lower: tuple
-    joint_upper: tuple
-
-    def __post_init__(self):
-        object.__setattr__(self, 'hip_offset', _vector('hip_offset', self.hip_offset, 3))
-        object.__setattr__(self, 'ankle_to_sole',
-                           _vector('ankle_to_sole', self.ankle_to_sole, 3))
-        object.__setattr__(self, 'joint_lower', _vector('joint_lower', self.joint_lower, 12))
-        object.__setattr__(self, 'joint_upper', _vector('joint_upper', self.joint_upper, 12))
-        for name in ('thigh_length', 'shank_length'):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
-                raise ConfigError('%s = %r m must be finite and > 0' % (name, value))
-        if not all(lo < hi for lo, hi in zip(self.joint_lower, self.joint_upper)):
-            raise ConfigError('joint_lower %r must be below joint_upper %r'
-                              % (self.joint_lower, self.joint_upper))
-
-    @classmethod
-    def from_object(cls, geometry) -> 'LegGeometry':
-        """Copy any object with the same attributes (e.g. biped_sim's LegGeometry)."""
-        return cls(geometry.hip_offset, geometry.thigh_length, geometry.shank_length,
-                   geometry.ankle_to_sole, geometry.joint_lower, geometry.joint_upper)
 
 
 @dataclass(frozen=True)
@@ -139,12 +93,13 @@ def validated_pose(name: str, position, rotation) -> tuple:
 class AnalyticLegIk:
     """Closed-form IK of both legs (see the module docstring for the equations).
 
-    :param geometry: leg dimensions; any object with LegGeometry's attributes.
+    :param geometry: leg dimensions.
     """
 
     def __init__(self, geometry):
-        self._geometry = (geometry if isinstance(geometry, LegGeometry)
-                          else LegGeometry.from_object(geometry))
+        if not isinstance(geometry, LegGeometry):
+            raise ConfigError(f'geometry must be a LegGeometry, got {type(geometry).__name__}')
+        self._geometry = geometry
         g = self._geometry
         mirror = np.array([1.0, -1.0, 1.0])
         self._hip = (np.array(g.hip_offset), np.array(g.hip_offset) * mirror)

@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE, LEFT, LegGeometry
+from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE, LEFT
 from biped_mpc.leg_ik import RIGHT, yaw_rotation
 from biped_sim.robot_description import coman_like
 
@@ -134,7 +134,7 @@ def test_rotation_beyond_limits_is_clipped_into_them(ik):
 
 
 def test_geometry_from_any_object_with_its_fields(description):
-    copy = LegGeometry.from_object(description.leg_geometry)
+    copy = description.leg_geometry
     assert dataclasses.asdict(copy) == dataclasses.asdict(description.leg_geometry)
     assert AnalyticLegIk(description.leg_geometry).geometry == copy
 
@@ -154,7 +154,7 @@ def test_bad_inputs_raise(ik):
 
 
 def test_bad_geometry_raises(description):
-    g = LegGeometry.from_object(description.leg_geometry)
+    g = description.leg_geometry
     with pytest.raises(ConfigError, match='shank_length'):
         dataclasses.replace(g, shank_length=-0.2)
     with pytest.raises(ConfigError, match='hip_offset'):

@@ -16,6 +16,8 @@ from typing import Mapping, Optional
 
 import numpy as np
 
+from biped_mpc.robot_model import LegGeometry
+
 from biped_sim import robot_builder
 from biped_sim.errors import ConfigError
 
@@ -27,43 +29,6 @@ def _vector(name: str, value, size: int) -> tuple:
     if array.shape != (size,) or not np.all(np.isfinite(array)):
         raise ConfigError('%s = %r must be %d finite numbers' % (name, value, size))
     return tuple(float(v) for v in array)
-
-
-@dataclass(frozen=True)
-class LegGeometry:
-    """Leg dimensions of a robot with intersecting hip axes and intersecting ankle axes.
-
-    Zero joint angles put the leg straight down with the foot parallel to the pelvis. The right
-    leg mirrors the left one in y.
-
-    :param hip_offset: left hip centre (intersection of the hip axes) in the pelvis frame (m).
-    :param thigh_length: hip centre to knee axis (m), > 0.
-    :param shank_length: knee axis to ankle centre (m), > 0.
-    :param ankle_to_sole: left sole centre relative to the ankle centre in the foot frame (m).
-    :param joint_lower: lower limits of the 12 leg joints in leg-joint order (rad).
-    :param joint_upper: upper limits of the 12 leg joints in leg-joint order (rad).
-    """
-
-    hip_offset: tuple
-    thigh_length: float
-    shank_length: float
-    ankle_to_sole: tuple
-    joint_lower: tuple
-    joint_upper: tuple
-
-    def __post_init__(self):
-        object.__setattr__(self, 'hip_offset', _vector('hip_offset', self.hip_offset, 3))
-        object.__setattr__(self, 'ankle_to_sole',
-                           _vector('ankle_to_sole', self.ankle_to_sole, 3))
-        object.__setattr__(self, 'joint_lower', _vector('joint_lower', self.joint_lower, 12))
-        object.__setattr__(self, 'joint_upper', _vector('joint_upper', self.joint_upper, 12))
-        for name in ('thigh_length', 'shank_length'):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError('%s = %r m must be finite and > 0' % (name, value))
-        if not np.all(np.array(self.joint_lower) < np.array(self.joint_upper)):
-            raise ConfigError('joint_lower %r must be below joint_upper %r'
-                              % (self.joint_lower, self.joint_upper))
 
 
 @dataclass(frozen=True)

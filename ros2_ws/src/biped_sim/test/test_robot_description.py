@@ -10,7 +10,7 @@ import pytest
 
 from biped_sim.errors import ConfigError
 from biped_sim.robot_description import coman_like, COMAN_LIKE_NOMINAL_HIP_HEIGHT
-from biped_sim.robot_description import crouched_leg_angles, LegGeometry
+from biped_sim.robot_description import crouched_leg_angles
 
 
 @pytest.fixture(scope='module')
@@ -104,15 +104,3 @@ def test_description_validation(description):
         dataclasses.replace(description, sole_width=-0.1)
     with pytest.raises(ConfigError, match='nominal_joint_positions'):
         dataclasses.replace(description, nominal_joint_positions={'l_knee_joint': math.nan})
-
-
-def test_leg_geometry_validation(description):
-    g = description.leg_geometry
-    with pytest.raises(ConfigError, match='thigh_length'):
-        dataclasses.replace(g, thigh_length=0.0)
-    with pytest.raises(ConfigError, match='hip_offset'):
-        dataclasses.replace(g, hip_offset=(0.0, 0.1))
-    with pytest.raises(ConfigError, match='joint_lower'):
-        dataclasses.replace(g, joint_lower=g.joint_upper)
-    with pytest.raises(ConfigError, match='ankle_to_sole'):
-        LegGeometry(g.hip_offset, 0.2, 0.2, (0.0, math.inf, 0.0), g.joint_lower, g.joint_upper)
