@@ -27,6 +27,7 @@ from scipy import ndimage
 
 from biped_planner.errors import (ConfigError, GoalOccupiedError, GoalOutsideMapError,
                                   NoPathError, StartOccupiedError, StartOutsideMapError)
+from biped_planner.input_checks import check_type, is_finite_number
 from biped_planner.occupancy_grid import InflationParams, OccupancyGrid
 
 SQRT2 = math.sqrt(2.0)
@@ -75,10 +76,8 @@ class AStarPlanner:
         :param method: 'jump' (A* with jump-point pruning) or 'plain' (cell-by-cell A*)
         :raises ConfigError: if grid or params has the wrong type or method is unknown
         """
-        if not isinstance(grid, OccupancyGrid):
-            raise ConfigError(f'grid must be an OccupancyGrid, got {type(grid).__name__}')
-        if not isinstance(params, InflationParams):
-            raise ConfigError(f'params must be InflationParams, got {type(params).__name__}')
+        check_type('grid', grid, OccupancyGrid)
+        check_type('params', params, InflationParams)
         if method not in SEARCH_METHODS:
             raise ConfigError(f'method must be one of {SEARCH_METHODS}, got {method!r}')
         self._grid = grid
@@ -195,8 +194,7 @@ class AStarPlanner:
         cells = []
         for name, point, outside in (('start', start, StartOutsideMapError),
                                      ('goal', goal, GoalOutsideMapError)):
-            if len(point) != 2 or not all(isinstance(v, (int, float, np.integer, np.floating))
-                                          and math.isfinite(v) for v in point):
+            if len(point) != 2 or not all(is_finite_number(v) for v in point):
                 raise ConfigError(f'{name} must be two finite numbers (x, y), got {point!r}')
             if not self._grid.contains(point[0], point[1]):
                 x_min, x_max, y_min, y_max = self._grid.extent

@@ -18,64 +18,51 @@ inflated map), so the footsteps follow straight lines and real turns only.
 """
 from dataclasses import dataclass
 import math
-from typing import List, Optional, Tuple
+from typing import List, Optional
 
 import numpy as np
 
 from biped_planner.astar import AStarPlanner, GridPath
 from biped_planner.errors import ConfigError, PlanningError
-from biped_planner.footsteps import Footstep, LEFT, other_side, RIGHT
-from biped_planner.kinematic_limits import clamp_step, KinematicLimits
+from biped_planner.feet_state import FeetState
+from biped_planner.footsteps import Footstep
+from biped_planner.input_checks import check_finite_array, check_side, check_type
+from biped_planner.kinematic_limits import KinematicLimits
 from biped_planner.lag_filter import FirstOrderLag
+from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.pose2d import Pose2D
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+from biped_planner.rotations import wrap_angle
+from biped_planner.sides import LEFT, RIGHT
 
 
 @dataclass(frozen=True)
 class FootstepPlannerParams:
-    """Parameters of the path-following footstep planner.
+    """Parameters of the path-following footstep planner (ranges in each parameter()).
 
-    :param step_length: R, advance of the body per step (m), (0, 0.5]
-    :param step_width: distance between the two parallel lines, 2 d (m), (0, 1]
-    :param lookahead: distance along the path of the point sigma aims at (m), (0, 5]
-    :param lag_time_constant: tau of the action filter (s), [0, 100]
-    :param step_time: update interval of the filter, one step (s), (0, 5]
-    :param goal_tolerance: distance at which the body has reached the goal (m), (0, 0.5]
-    :param heading_tolerance: heading error at which the final turn stops (rad), (0, 0.5]
-    :param max_steps: the planner gives up after this many steps, [1, 100000]
     :param limits: kinematic limits between consecutive footsteps
     """
 
-    step_length: float = 0.1
-    step_width: float = 0.2
-    lookahead: float = 0.3
-    lag_time_constant: float = 0.5
-    step_time: float = 0.5
-    goal_tolerance: float = 0.01
-    heading_tolerance: float = 1e-6
-    max_steps: int = 5000
+    step_length: float = parameter(0.1, 'R: advance of the body per step along the path (m)',
+                                   low=0.0, high=0.5, low_open=True)
+    step_width: float = parameter(0.2, '2 d: distance between the two feet lines (m)',
+                                  low=0.0, high=1.0, low_open=True)
+    lookahead: float = parameter(0.3, 'distance along the path of the point sigma aims at (m)',
+                                 low=0.0, high=5.0, low_open=True)
+    lag_time_constant: float = parameter(
+        0.5, 'tau of the first-order lag filter on the action (s)', low=0.0, high=100.0)
+    step_time: float = parameter(0.5, 'update interval of the lag filter, one step (s)',
+                                 low=0.0, high=5.0, low_open=True)
+    goal_tolerance: float = parameter(0.01, 'distance at which the body has reached the goal (m)',
+                                      low=0.0, high=0.5, low_open=True)
+    heading_tolerance: float = parameter(
+        1e-6, 'heading error at which the final turn stops (rad)', low=1e-6, high=0.5)
+    max_steps: int = parameter(5000, 'the planner gives up after this many steps',
+                               low=1, high=100000)
     limits: KinematicLimits = KinematicLimits()
 
     def __post_init__(self) -> None:
-        for name, low, high in (('step_length', 1e-6, 0.5), ('step_width', 1e-6, 1.0),
-                                ('lookahead', 1e-6, 5.0), ('lag_time_constant', 0.0, 100.0),
-                                ('step_time', 1e-6, 5.0), ('goal_tolerance', 1e-6, 0.5),
-                                ('heading_tolerance', 1e-6, 0.5)):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or not low <= value <= high:
-                raise ConfigError(f'FootstepPlannerParams.{name} must be a finite number in '
-                                  f'[{low}, {high}], got {value!r}')
-        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) \
-                or not 1 <= self.max_steps <= 100000:
-            raise ConfigError(f'FootstepPlannerParams.max_steps must be an integer in '
-                              f'[1, 100000], got {self.max_steps!r}')
-        if not isinstance(self.limits, KinematicLimits):
-            raise ConfigError('FootstepPlannerParams.limits must be KinematicLimits, got '
-                              f'{type(self.limits).__name__}')
+        validate_fields(self, ConfigError)
+        check_type('FootstepPlannerParams.limits', self.limits, KinematicLimits)
 
 
 @dataclass(frozen=True)
@@ -181,10 +168,7 @@ class FootstepPlanner:
         :param params: planner parameters
         :raises ConfigError: if params has the wrong type
         """
-        if not isinstance(params, FootstepPlannerParams):
-            raise ConfigError(f'params must be FootstepPlannerParams, got '
-                              f'{type(params).__name__}')
-        self._params = params
+        self._params = check_type('params', params, FootstepPlannerParams)
 
     @property
     def params(self) -> FootstepPlannerParams:
@@ -201,9 +185,8 @@ class FootstepPlanner:
         :raises ConfigError: if start or goal is not a Pose2D
         :raises PlanningError: (a subclass) if A* finds no path or the steps do not converge
         """
-        for name, pose in (('start', start), ('goal', goal)):
-            if not isinstance(pose, Pose2D):
-                raise ConfigError(f'{name} must be a Pose2D, got {type(pose).__name__}')
+        check_type('start', start, Pose2D)
+        check_type('goal', goal, Pose2D)
         grid_path = planner.plan((start.x, start.y), (goal.x, goal.y))
         points = grid_path.points.copy()
         points[0] = (start.x, start.y)
@@ -223,26 +206,23 @@ class FootstepPlanner:
         :raises ConfigError: if an argument is malformed
         :raises PlanningError: if the goal is not reached within max_steps steps
         """
-        path = np.asarray(path, dtype=float)
-        if path.ndim != 2 or path.shape[1] != 2 or len(path) < 1 or not np.all(
-                np.isfinite(path)):
+        path = check_finite_array('path', path)
+        if path.ndim != 2 or path.shape[1] != 2 or len(path) < 1:
             raise ConfigError(f'path must be a finite (K, 2) array with K >= 1, got shape '
                               f'{path.shape}')
-        for name, pose in (('start', start), ('goal', goal)):
-            if not isinstance(pose, Pose2D):
-                raise ConfigError(f'{name} must be a Pose2D, got {type(pose).__name__}')
+        check_type('start', start, Pose2D)
+        check_type('goal', goal, Pose2D)
         params = self._params
-        half = 0.5 * params.step_width
         goal_xy = np.array([goal.x, goal.y])
         line = _Polyline(np.vstack(([start.x, start.y], path, goal_xy)))
         if first_swing is None:
             direction = line.at(params.lookahead) - [start.x, start.y]
-            turn = _wrap(math.atan2(direction[1], direction[0]) - start.yaw) if np.hypot(
-                *direction) > 1e-9 else _wrap(goal.yaw - start.yaw)
+            turn = wrap_angle(math.atan2(direction[1], direction[0]) - start.yaw) if np.hypot(
+                *direction) > 1e-9 else wrap_angle(goal.yaw - start.yaw)
             first_swing = LEFT if turn >= 0.0 else RIGHT
-        elif first_swing not in (LEFT, RIGHT) or isinstance(first_swing, bool):
-            raise ConfigError(f'first_swing must be LEFT or RIGHT, got {first_swing!r}')
-        state = _Feet(start, half, first_swing, params.limits)
+        else:
+            check_side('first_swing', first_swing)
+        state = FeetState(start, params.step_width, first_swing, params.limits)
         action = FirstOrderLag(params.lag_time_constant, [0.0, 0.0])
         progress = 0.0
         for _ in range(params.max_steps):
@@ -255,59 +235,33 @@ class FootstepPlanner:
             target = line.at(progress + params.lookahead)
             if np.hypot(*(target - body)) < 1e-9 or remaining < params.lookahead:
                 target = goal_xy
-            sigma_raw = _wrap(math.atan2(target[1] - body[1], target[0] - body[0])
-                              - state.body.yaw)
+            sigma_raw = wrap_angle(math.atan2(target[1] - body[1], target[0] - body[0])
+                                   - state.body.yaw)
             step, sigma = action.update([params.step_length, sigma_raw], params.step_time)
             sigma = min(max(float(sigma), -params.limits.max_turn), params.limits.max_turn)
             if remaining < params.step_length:
                 # final approach: aim straight at the goal, unfiltered, so the body stops on it
                 sigma = min(max(sigma_raw, -params.limits.max_turn), params.limits.max_turn)
-                step = remaining if abs(_wrap(sigma_raw - sigma)) < 1e-9 else 0.0
+                step = remaining if abs(wrap_angle(sigma_raw - sigma)) < 1e-9 else 0.0
                 action.reset([step, sigma])
-            state.step(float(min(step, remaining)), sigma)
+            _advance(state, float(min(step, remaining)), sigma)
         else:
             raise PlanningError(f'the footsteps did not reach the goal within '
                                 f'{params.max_steps} steps')
         for _ in range(params.max_steps):
-            error = _wrap(goal.yaw - state.body.yaw)
+            error = wrap_angle(goal.yaw - state.body.yaw)
             if abs(error) <= params.heading_tolerance:
                 break
-            state.step(0.0, min(max(error, -params.limits.max_turn), params.limits.max_turn))
+            _advance(state, 0.0, min(max(error, -params.limits.max_turn), params.limits.max_turn))
         else:
             raise PlanningError('the final turn did not converge')
-        state.step(0.0, _wrap(goal.yaw - state.body.yaw))
+        _advance(state, 0.0, wrap_angle(goal.yaw - state.body.yaw))
         return state.footsteps
 
 
-class _Feet:
-    """Feet state s and the transition s' = t(s, a) of the paper."""
-
-    def __init__(self, start: Pose2D, half_width: float, first_swing: int,
-                 limits: KinematicLimits) -> None:
-        cos_yaw, sin_yaw = math.cos(start.yaw), math.sin(start.yaw)
-        self.feet = {LEFT: Footstep(LEFT, start.x - sin_yaw * half_width,
-                                    start.y + cos_yaw * half_width, start.yaw),
-                     RIGHT: Footstep(RIGHT, start.x + sin_yaw * half_width,
-                                     start.y - cos_yaw * half_width, start.yaw)}
-        self.half_width = half_width
-        self.swing = first_swing
-        self.limits = limits
-        self.body = start
-        self.footsteps = [self.feet[other_side(first_swing)], self.feet[first_swing]]
-
-    def step(self, advance: float, turn: float) -> Tuple[float, float]:
-        yaw = self.body.yaw + turn
-        cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
-        x = self.body.x + advance * cos_yaw
-        y = self.body.y + advance * sin_yaw
-        sign = 1.0 if self.swing == LEFT else -1.0
-        desired = Footstep(self.swing, x - sign * sin_yaw * self.half_width,
-                           y + sign * cos_yaw * self.half_width, yaw)
-        landing = clamp_step(self.feet[other_side(self.swing)], desired, self.limits)
-        self.body = Pose2D(landing.x + sign * math.sin(landing.yaw) * self.half_width,
-                           landing.y - sign * math.cos(landing.yaw) * self.half_width,
-                           landing.yaw)
-        self.feet[self.swing] = landing
-        self.footsteps.append(landing)
-        self.swing = other_side(self.swing)
-        return self.body.x, self.body.y
+def _advance(state: FeetState, advance: float, turn: float) -> None:
+    """The action a = (R, sigma): the body turns by sigma and advances R along its new heading,
+    and the swing foot lands beside it."""
+    body = state.body
+    yaw = body.yaw + turn
+    state.land(body.x + advance * math.cos(yaw), body.y + advance * math.sin(yaw), yaw)

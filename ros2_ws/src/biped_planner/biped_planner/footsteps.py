@@ -6,12 +6,15 @@ the next swing foot (feet alternate). This is the paper's sequence of saved foot
 """
 from dataclasses import dataclass
 import math
-from typing import List, Sequence
+from typing import List, Sequence, Tuple
 
+from biped_planner import sides
 from biped_planner.errors import ConfigError
+from biped_planner.input_checks import check_integer, check_number, check_side
+from biped_planner.pose2d import Pose2D
+# RIGHT is importable from here for the packages that still find it here (biped_planner.sides).
+from biped_planner.sides import LEFT, RIGHT  # noqa: F401
 
-LEFT = 0
-RIGHT = 1
 SIDE_NAMES = ('left', 'right')
 
 
@@ -31,26 +34,53 @@ class Footstep:
     yaw: float = 0.0
 
     def __post_init__(self) -> None:
-        if isinstance(self.side, bool) or self.side not in (LEFT, RIGHT):
-            raise ConfigError(f'Footstep.side must be LEFT (0) or RIGHT (1), got {self.side!r}')
+        check_side('Footstep.side', self.side)
         for name in ('x', 'y', 'yaw'):
-            value = getattr(self, name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ConfigError(f'Footstep.{name} must be a finite number, got {value!r}')
+            check_number(f'Footstep.{name}', getattr(self, name))
 
 
 def other_side(side: int) -> int:
-    """Return the other foot's label.
+    """biped_planner.sides.other_side for a side given by a caller: checked first.
 
     :param side: LEFT or RIGHT
     :return: RIGHT for LEFT and LEFT for RIGHT
     :raises ConfigError: if side is neither LEFT nor RIGHT
     """
-    if side == LEFT:
-        return RIGHT
-    if side == RIGHT:
-        return LEFT
-    raise ConfigError(f'side must be LEFT (0) or RIGHT (1), got {side!r}')
+    return sides.other_side(check_side('side', side))
+
+
+def foot_beside(x: float, y: float, yaw: float, side: int, distance: float) -> Footstep:
+    """The sole of one foot at a distance to its own side of a pose, with the pose's heading.
+
+    :param x: pose x (m)
+    :param y: pose y (m)
+    :param yaw: pose heading (rad)
+    :param side: LEFT (placed to the pose's left) or RIGHT
+    :param distance: lateral distance from the pose (m)
+    :return: the footstep
+    """
+    sign = 1.0 if side == LEFT else -1.0
+    cos_yaw, sin_yaw = math.cos(yaw), math.sin(yaw)
+    return Footstep(side, x - sign * sin_yaw * distance, y + sign * cos_yaw * distance, yaw)
+
+
+def feet_beside(body: Pose2D, step_width: float) -> Tuple[Footstep, Footstep]:
+    """Left and right soles side by side around a body pose, step_width apart.
+
+    :return: (left, right)
+    """
+    half = 0.5 * step_width
+    return (foot_beside(body.x, body.y, body.yaw, LEFT, half),
+            foot_beside(body.x, body.y, body.yaw, RIGHT, half))
+
+
+def body_beside(foot: Footstep, distance: float) -> Pose2D:
+    """The pose at a distance from a foot towards the other foot's side, with its heading:
+    the body between the feet, in line with the foot that landed last.
+    """
+    sign = 1.0 if foot.side == LEFT else -1.0
+    return Pose2D(foot.x + sign * math.sin(foot.yaw) * distance,
+                  foot.y - sign * math.cos(foot.yaw) * distance, foot.yaw)
 
 
 def check_footstep_sequence(footsteps: Sequence[Footstep], minimum: int = 3) -> None:
@@ -104,16 +134,11 @@ def straight_footsteps(n_steps: int, step_length: float, step_width: float,
     :return: n_steps + 3 footsteps in the footstep-list convention
     :raises ConfigError: if an argument is out of range or not finite
     """
-    if isinstance(n_steps, bool) or not isinstance(n_steps, int) or n_steps < 0:
-        raise ConfigError(f'n_steps must be an integer >= 0, got {n_steps!r}')
-    for name, value in (('step_length', step_length), ('step_width', step_width), ('x0', x0),
-                        ('y0', y0)):
-        if not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise ConfigError(f'{name} must be a finite number, got {value!r}')
-    if not -1.0 <= step_length <= 1.0:
-        raise ConfigError(f'step_length must be in [-1, 1] m, got {step_length!r}')
-    if not 0.0 < step_width <= 1.0:
-        raise ConfigError(f'step_width must be in (0, 1] m, got {step_width!r}')
+    check_integer('n_steps', n_steps, low=0)
+    check_number('step_length', step_length, -1.0, 1.0, unit=' m')
+    check_number('step_width', step_width, 0.0, 1.0, low_open=True, unit=' m')
+    check_number('x0', x0)
+    check_number('y0', y0)
     support = other_side(first_swing)
     half_width = 0.5 * step_width
 

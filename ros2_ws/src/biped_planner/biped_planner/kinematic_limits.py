@@ -11,47 +11,38 @@ from typing import List, Tuple
 import numpy as np
 
 from biped_planner.errors import ConfigError
-from biped_planner.footsteps import Footstep, LEFT
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+from biped_planner.footsteps import Footstep
+from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.rotations import wrap_angle
+from biped_planner.sides import LEFT
 
 
 @dataclass(frozen=True)
 class KinematicLimits:
     """Reachable landings relative to the stance foot, and the foot size for collisions.
 
-    :param max_forward: largest forward distance of a landing (m), [0, 1]
-    :param max_backward: largest backward distance of a landing (m), [0, 1]
-    :param min_width: smallest lateral distance between the sole centres, towards the swing
-        side (m), [foot_width + clearance, max_width]
-    :param max_width: largest lateral distance (m), (0, 1]
-    :param max_turn: largest heading change per step (rad), [0, pi/2]
-    :param foot_length: sole length (m), (0, 1]
-    :param foot_width: sole width (m), (0, 1]
-    :param clearance: smallest gap between the two soles (m), [0, 0.2]
+    Each field's description and range are in its parameter(); min_width must also lie in
+    [foot_width + clearance, max_width].
     """
 
-    max_forward: float = 0.25
-    max_backward: float = 0.15
-    min_width: float = 0.12
-    max_width: float = 0.4
-    max_turn: float = math.radians(30.0)
-    foot_length: float = 0.16
-    foot_width: float = 0.08
-    clearance: float = 0.01
+    max_forward: float = parameter(0.25, 'largest forward distance of a landing (m)',
+                                   low=0.0, high=1.0)
+    max_backward: float = parameter(0.15, 'largest backward distance of a landing (m)',
+                                    low=0.0, high=1.0)
+    min_width: float = parameter(0.12, 'smallest lateral distance between the sole centres, '
+                                 'towards the swing side (m), at least foot_width + clearance',
+                                 low=0.0, high=1.0)
+    max_width: float = parameter(0.4, 'largest lateral distance between the sole centres (m)',
+                                 low=0.0, high=1.0, low_open=True)
+    max_turn: float = parameter(math.radians(30.0), 'largest heading change per step (rad)',
+                                low=0.0, high=math.pi / 2)
+    foot_length: float = parameter(0.16, 'sole length (m)', low=0.0, high=1.0, low_open=True)
+    foot_width: float = parameter(0.08, 'sole width (m)', low=0.0, high=1.0, low_open=True)
+    clearance: float = parameter(0.01, 'smallest gap between the two soles (m)',
+                                 low=0.0, high=0.2)
 
     def __post_init__(self) -> None:
-        ranges = (('max_forward', 0.0, 1.0), ('max_backward', 0.0, 1.0), ('max_width', 1e-6, 1.0),
-                  ('max_turn', 0.0, math.pi / 2), ('foot_length', 1e-6, 1.0),
-                  ('foot_width', 1e-6, 1.0), ('clearance', 0.0, 0.2))
-        for name, low, high in ranges + (('min_width', 0.0, 1.0),):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or not low <= value <= high:
-                raise ConfigError(f'KinematicLimits.{name} must be a finite number in [{low}, '
-                                  f'{high}], got {value!r}')
+        validate_fields(self, ConfigError)
         low = self.foot_width + self.clearance
         if not low <= self.min_width <= self.max_width:
             raise ConfigError(f'KinematicLimits.min_width must be in [foot_width + clearance, '
@@ -70,7 +61,7 @@ def relative_step(stance: Footstep, landing: Footstep) -> Tuple[float, float, fl
     x, y = landing.x - stance.x, landing.y - stance.y
     forward = cos_yaw * x + sin_yaw * y
     left = -sin_yaw * x + cos_yaw * y
-    return forward, left if landing.side == LEFT else -left, _wrap(landing.yaw - stance.yaw)
+    return forward, left if landing.side == LEFT else -left, wrap_angle(landing.yaw - stance.yaw)
 
 
 def _corners(step: Footstep, length: float, width: float) -> np.ndarray:

@@ -9,7 +9,8 @@ from typing import Union
 
 import numpy as np
 
-from biped_planner.errors import CommandError, ConfigError
+from biped_planner.errors import CommandError
+from biped_planner.input_checks import check_finite_array, check_number
 
 ArrayLike = Union[float, np.ndarray]
 
@@ -24,19 +25,9 @@ class FirstOrderLag:
         :param initial: initial output (any shape), finite
         :raises ConfigError: if tau is out of range or the initial value is not finite
         """
-        if isinstance(time_constant, bool) or not isinstance(time_constant, (int, float)) \
-                or not math.isfinite(time_constant) or not 0.0 <= time_constant <= 100.0:
-            raise ConfigError(f'time_constant must be a finite number in [0, 100] s, got '
-                              f'{time_constant!r}')
-        self._time_constant = float(time_constant)
-        self._value = self._finite(initial, 'initial', ConfigError)
-
-    @staticmethod
-    def _finite(value: ArrayLike, name: str, error: type) -> np.ndarray:
-        array = np.array(value, dtype=float)
-        if not np.all(np.isfinite(array)):
-            raise error(f'{name} must be finite, got {value!r}')
-        return array
+        self._time_constant = check_number('time_constant', time_constant, 0.0, 100.0,
+                                           unit=' s')
+        self._value = check_finite_array('initial', initial)
 
     @property
     def time_constant(self) -> float:
@@ -54,7 +45,7 @@ class FirstOrderLag:
         :param value: new output, finite
         :raises CommandError: if the value is not finite
         """
-        self._value = self._finite(value, 'value', CommandError)
+        self._value = check_finite_array('value', value, error=CommandError)
 
     def gain(self, dt: float) -> float:
         """The fraction 1 - exp(-dt / tau) of the error removed by one update of length dt.
@@ -63,9 +54,7 @@ class FirstOrderLag:
         :return: the gain in (0, 1]
         :raises ConfigError: if dt is not a finite number > 0
         """
-        if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not math.isfinite(dt) \
-                or dt <= 0.0:
-            raise ConfigError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_number('dt', dt, low=0.0, low_open=True, unit=' s')
         if self._time_constant == 0.0:
             return 1.0
         return 1.0 - math.exp(-dt / self._time_constant)
@@ -80,7 +69,7 @@ class FirstOrderLag:
         :raises ConfigError: if dt is not a finite number > 0
         """
         gain = self.gain(dt)
-        target = self._finite(target, 'target', CommandError)
+        target = check_finite_array('target', target, error=CommandError)
         if target.shape != self._value.shape:
             raise CommandError(f'target must have shape {self._value.shape}, got '
                                f'{target.shape}')

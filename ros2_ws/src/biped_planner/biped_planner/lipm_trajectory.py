@@ -29,6 +29,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from biped_planner.errors import ConfigError
+from biped_planner.input_checks import check_number
 
 
 def _backward_dcm(times: np.ndarray, zmp: np.ndarray, omega: float) -> np.ndarray:
@@ -99,8 +100,7 @@ class PiecewiseLipm:
             raise ConfigError('knot times and ZMP must be finite')
         if np.any(np.diff(times) <= 0.0):
             raise ConfigError('knot times must be strictly increasing')
-        if not omega > 0.0:
-            raise ConfigError(f'omega must be > 0, got {omega!r}')
+        check_number('omega', omega, low=0.0, low_open=True, unit=' 1/s')
         hip_start = np.asarray(hip_start, dtype=float).reshape(2)
         self.omega = float(omega)
         self.correction = np.zeros(2)

@@ -10,7 +10,6 @@ p < free_thresh free (0), in between unknown (-1) in trinary mode and round(100 
 mode; a transparent pixel is unknown. In raw mode the value is the occupancy itself (>100:
 unknown). The image's top row is the map's last row (images go down, y goes up).
 """
-import math
 from pathlib import Path
 from typing import Tuple
 
@@ -18,16 +17,14 @@ import numpy as np
 import yaml
 
 from biped_planner.errors import MapError
+from biped_planner.input_checks import check_number
 from biped_planner.occupancy_grid import OccupancyGrid, UNKNOWN
 
 MODES = ('trinary', 'scale', 'raw')
 
 
 def _number(data: dict, key: str, path, default=None) -> float:
-    value = data.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise MapError(f'{path}: {key} must be a finite number, got {value!r}')
-    return float(value)
+    return check_number(f'{path}: {key}', data.get(key, default), error=MapError)
 
 
 def occupancy_from_pixels(pixels: np.ndarray, alpha, negate: bool, occupied_thresh: float,

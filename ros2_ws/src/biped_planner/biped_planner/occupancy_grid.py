@@ -13,6 +13,8 @@ import numpy as np
 from scipy import ndimage
 
 from biped_planner.errors import ConfigError, MapError
+from biped_planner.input_checks import check_integer, check_number, is_finite_number
+from biped_planner.parameter_fields import parameter, validate_fields
 
 UNKNOWN = -1
 MAX_CELLS = 25_000_000
@@ -35,7 +37,7 @@ class BoxObstacle:
 
     def __post_init__(self) -> None:
         for name in ('x_min', 'y_min', 'x_max', 'y_max'):
-            _check_finite(f'BoxObstacle.{name}', getattr(self, name))
+            check_number(f'BoxObstacle.{name}', getattr(self, name))
         if not (self.x_max > self.x_min and self.y_max > self.y_min):
             raise ConfigError(f'BoxObstacle needs x_max > x_min and y_max > y_min, got {self}')
 
@@ -54,55 +56,32 @@ class DiscObstacle:
     radius: float
 
     def __post_init__(self) -> None:
-        for name in ('x', 'y', 'radius'):
-            _check_finite(f'DiscObstacle.{name}', getattr(self, name))
-        if not self.radius > 0.0:
-            raise ConfigError(f'DiscObstacle.radius must be > 0 m, got {self.radius!r}')
+        check_number('DiscObstacle.x', self.x)
+        check_number('DiscObstacle.y', self.y)
+        check_number('DiscObstacle.radius', self.radius, low=0.0, low_open=True, unit=' m')
 
 
 @dataclass(frozen=True)
 class InflationParams:
-    """How cells become blocked for the planner.
+    """How cells become blocked for the planner (ranges in each parameter()).
 
-    :param scale: obstacles are scaled about their centre by this factor (the paper's 1.1),
-        [1, 3]
-    :param robot_radius: cells closer than this to a (scaled) obstacle cell are blocked too
-        (m), [0, 5]; the default keeps the feet (at +-d from the path) off the obstacles
-    :param occupied_threshold: a cell with value >= threshold is occupied (percent), [1, 100]
-    :param unknown_is_occupied: treat unknown cells (-1) as occupied
-    :param outside_is_occupied: treat the space around the map as occupied, so the robot
-        radius keeps the path (and the feet beside it) away from the map border
+    The default robot radius keeps the feet (at +-d from the path) off the obstacles;
+    outside_is_occupied lets the robot radius keep the path (and the feet beside it) away from
+    the map border.
     """
 
-    scale: float = 1.1
-    robot_radius: float = 0.2
-    occupied_threshold: int = 50
-    unknown_is_occupied: bool = True
-    outside_is_occupied: bool = True
+    scale: float = parameter(1.1, "obstacles are scaled about their centre by this factor before "
+                             "planning (the paper's 1.1)", low=1.0, high=3.0)
+    robot_radius: float = parameter(
+        0.2, 'cells closer than this to a (scaled) obstacle cell are blocked too (m)',
+        low=0.0, high=5.0)
+    occupied_threshold: int = parameter(
+        50, 'a cell with a value >= this is occupied (percent)', low=1, high=100)
+    unknown_is_occupied: bool = parameter(True, 'unknown cells (-1) are treated as occupied')
+    outside_is_occupied: bool = parameter(True, 'the space around the map counts as occupied')
 
     def __post_init__(self) -> None:
-        _check_finite('InflationParams.scale', self.scale)
-        if not 1.0 <= self.scale <= 3.0:
-            raise ConfigError(f'InflationParams.scale must be in [1, 3], got {self.scale!r}')
-        _check_finite('InflationParams.robot_radius', self.robot_radius)
-        if not 0.0 <= self.robot_radius <= 5.0:
-            raise ConfigError(f'InflationParams.robot_radius must be in [0, 5] m, got '
-                              f'{self.robot_radius!r}')
-        if isinstance(self.occupied_threshold, bool) or not isinstance(
-                self.occupied_threshold, (int, np.integer)) or not \
-                1 <= self.occupied_threshold <= 100:
-            raise ConfigError(f'InflationParams.occupied_threshold must be an integer in '
-                              f'[1, 100], got {self.occupied_threshold!r}')
-        for name in ('unknown_is_occupied', 'outside_is_occupied'):
-            if not isinstance(getattr(self, name), (bool, np.bool_)):
-                raise ConfigError(f'InflationParams.{name} must be a bool, got '
-                                  f'{getattr(self, name)!r}')
-
-
-def _check_finite(name: str, value: float) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
-            or not math.isfinite(value):
-        raise ConfigError(f'{name} must be a finite number, got {value!r}')
+        validate_fields(self, ConfigError)
 
 
 class OccupancyGrid:
@@ -129,13 +108,9 @@ class OccupancyGrid:
         if values.size and (values.min() < UNKNOWN or values.max() > 100):
             raise MapError(f'grid values must be in -1..100, got [{values.min()}, '
                            f'{values.max()}]')
-        if isinstance(resolution, bool) or not isinstance(
-                resolution, (int, float, np.integer, np.floating)) or not math.isfinite(
-                resolution) or resolution <= 0.0:
-            raise MapError(f'resolution must be a finite number > 0 m, got {resolution!r}')
+        check_number('resolution', resolution, low=0.0, low_open=True, unit=' m', error=MapError)
         origin = tuple(origin)
-        if len(origin) != 2 or not all(isinstance(v, (int, float, np.integer, np.floating))
-                                       and math.isfinite(v) for v in origin):
+        if len(origin) != 2 or not all(is_finite_number(v) for v in origin):
             raise MapError(f'origin must be two finite numbers (x, y), got {origin!r}')
         self._values = values.astype(np.int8)
         self._values.setflags(write=False)
@@ -156,8 +131,7 @@ class OccupancyGrid:
         :raises MapError: if the sizes do not match or a value is malformed
         """
         for name, value in (('width', width), ('height', height)):
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                raise MapError(f'{name} must be an integer >= 1, got {value!r}')
+            check_integer(name, value, low=1, error=MapError)
         flat = np.asarray(data)
         if flat.ndim != 1 or flat.size != width * height:
             raise MapError(f'data must hold width * height = {width * height} values, got '
@@ -178,12 +152,9 @@ class OccupancyGrid:
         :raises MapError: if the size or resolution is malformed
         :raises ConfigError: if an obstacle is neither a BoxObstacle nor a DiscObstacle
         """
-        if len(size) != 2 or not all(isinstance(v, (int, float)) and math.isfinite(v) and v > 0
-                                     for v in size):
+        if len(size) != 2 or not all(is_finite_number(v) and v > 0 for v in size):
             raise MapError(f'size must be two finite numbers > 0 (m), got {size!r}')
-        if not isinstance(resolution, (int, float)) or not math.isfinite(resolution) \
-                or resolution <= 0:
-            raise MapError(f'resolution must be a finite number > 0 m, got {resolution!r}')
+        check_number('resolution', resolution, low=0.0, low_open=True, unit=' m', error=MapError)
         width = int(round(size[0] / resolution))
         height = int(round(size[1] / resolution))
         if width < 1 or height < 1 or width * height > MAX_CELLS:

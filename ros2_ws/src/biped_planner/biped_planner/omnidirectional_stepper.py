@@ -17,10 +17,14 @@ import math
 from typing import Callable, List, Optional, Sequence, Tuple
 
 from biped_planner.errors import CommandError, ConfigError
-from biped_planner.footsteps import Footstep, LEFT, other_side, RIGHT
-from biped_planner.kinematic_limits import clamp_step, KinematicLimits
+from biped_planner.footsteps import Footstep
+from biped_planner.input_checks import check_number, check_side, check_type
+from biped_planner.feet_state import FeetState
+from biped_planner.kinematic_limits import KinematicLimits
 from biped_planner.lag_filter import FirstOrderLag
+from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.pose2d import Pose2D
+from biped_planner.sides import LEFT
 
 
 @dataclass(frozen=True)
@@ -38,10 +42,7 @@ class StepCommand:
 
     def __post_init__(self) -> None:
         for name in ('step_length', 'step_width', 'step_angle'):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value):
-                raise CommandError(f'StepCommand.{name} must be a finite number, got {value!r}')
+            check_number(f'StepCommand.{name}', getattr(self, name), error=CommandError)
 
 
 def command_from_twist(vx: float, vy: float, wz: float, step_time: float) -> StepCommand:
@@ -55,55 +56,33 @@ def command_from_twist(vx: float, vy: float, wz: float, step_time: float) -> Ste
     :raises CommandError: if a velocity is not finite
     :raises ConfigError: if step_time is not a finite number > 0
     """
-    if isinstance(step_time, bool) or not isinstance(step_time, (int, float)) \
-            or not math.isfinite(step_time) or step_time <= 0.0:
-        raise ConfigError(f'step_time must be a finite number > 0 s, got {step_time!r}')
+    check_number('step_time', step_time, low=0.0, low_open=True, unit=' s')
     for name, value in (('vx', vx), ('vy', vy), ('wz', wz)):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or not math.isfinite(value):
-            raise CommandError(f'{name} must be a finite number, got {value!r}')
+        check_number(name, value, error=CommandError)
     return StepCommand(vx * step_time, vy * step_time, wz * step_time)
 
 
 @dataclass(frozen=True)
 class StepperParams:
-    """Parameters of the omnidirectional stepper.
+    """Parameters of the omnidirectional stepper (each field's range is in its parameter()).
 
-    :param step_width: nominal distance between the sole centres, 2 d (m), (0, 1]
-    :param lag_time_constant: tau of the command filter (s), [0, 100]; 0: no filtering
-    :param max_step_length: |X| bound of a command (m), [0, 1]
-    :param max_step_width: |Y| bound of a command (m), [0, 1]
-    :param max_step_angle: |alpha| bound of a command (rad), [0, pi/2]
     :param limits: kinematic limits between consecutive footsteps
     """
 
-    step_width: float = 0.2
-    lag_time_constant: float = 0.5
-    max_step_length: float = 0.2
-    max_step_width: float = 0.1
-    max_step_angle: float = math.radians(20.0)
+    step_width: float = parameter(0.2, 'nominal distance between the sole centres, 2 d (m)',
+                                  low=0.0, high=1.0, low_open=True)
+    lag_time_constant: float = parameter(
+        0.5, 'tau of the lag filter on the commands (s); 0: no filtering', low=0.0, high=100.0)
+    max_step_length: float = parameter(0.2, '|X| bound of a step command (m)',
+                                       low=0.0, high=1.0)
+    max_step_width: float = parameter(0.1, '|Y| bound of a step command (m)', low=0.0, high=1.0)
+    max_step_angle: float = parameter(math.radians(20.0), '|alpha| bound of a step command (rad)',
+                                      low=0.0, high=math.pi / 2)
     limits: KinematicLimits = KinematicLimits()
 
     def __post_init__(self) -> None:
-        for name, low, high in (('step_width', 1e-6, 1.0), ('lag_time_constant', 0.0, 100.0),
-                                ('max_step_length', 0.0, 1.0), ('max_step_width', 0.0, 1.0),
-                                ('max_step_angle', 0.0, math.pi / 2)):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or not low <= value <= high:
-                raise ConfigError(f'StepperParams.{name} must be a finite number in [{low}, '
-                                  f'{high}], got {value!r}')
-        if not isinstance(self.limits, KinematicLimits):
-            raise ConfigError(f'StepperParams.limits must be KinematicLimits, got '
-                              f'{type(self.limits).__name__}')
-
-
-def _feet_at(pose: Pose2D, half_width: float) -> Tuple[Footstep, Footstep]:
-    cos_yaw, sin_yaw = math.cos(pose.yaw), math.sin(pose.yaw)
-    left = Footstep(LEFT, pose.x - sin_yaw * half_width, pose.y + cos_yaw * half_width, pose.yaw)
-    right = Footstep(RIGHT, pose.x + sin_yaw * half_width, pose.y - cos_yaw * half_width,
-                     pose.yaw)
-    return left, right
+        validate_fields(self, ConfigError)
+        check_type('StepperParams.limits', self.limits, KinematicLimits)
 
 
 class OmnidirectionalStepper:
@@ -118,35 +97,27 @@ class OmnidirectionalStepper:
         :param first_swing: the foot that swings first, LEFT or RIGHT
         :raises ConfigError: if an argument has the wrong type or first_swing is not a foot
         """
-        if not isinstance(start, Pose2D):
-            raise ConfigError(f'start must be a Pose2D, got {type(start).__name__}')
-        if not isinstance(params, StepperParams):
-            raise ConfigError(f'params must be StepperParams, got {type(params).__name__}')
-        if first_swing not in (LEFT, RIGHT) or isinstance(first_swing, bool):
-            raise ConfigError(f'first_swing must be LEFT or RIGHT, got {first_swing!r}')
+        check_type('start', start, Pose2D)
+        check_type('params', params, StepperParams)
+        check_side('first_swing', first_swing)
         self._params = params
-        self._half_width = 0.5 * params.step_width
-        left, right = _feet_at(start, self._half_width)
-        self._feet = {LEFT: left, RIGHT: right}
-        self._swing = first_swing
-        self._body = start
+        self._feet = FeetState(start, params.step_width, first_swing, params.limits)
         self._filter = FirstOrderLag(params.lag_time_constant, [0.0, 0.0, 0.0])
-        self._footsteps = [self._feet[other_side(first_swing)], self._feet[first_swing]]
 
     @property
     def footsteps(self) -> List[Footstep]:
         """All footsteps so far in the footstep-list convention (a copy)."""
-        return list(self._footsteps)
+        return list(self._feet.footsteps)
 
     @property
     def swing_side(self) -> int:
         """The foot that swings next."""
-        return self._swing
+        return self._feet.swing
 
     @property
     def body(self) -> Pose2D:
         """Body pose after the last step."""
-        return self._body
+        return self._feet.body
 
     @property
     def filtered_command(self) -> StepCommand:
@@ -158,9 +129,7 @@ class OmnidirectionalStepper:
 
         :return: the 8-tuple; phi is 1 for the foot that swings next and -1 for the other
         """
-        left, right = self._feet[LEFT], self._feet[RIGHT]
-        return (left.x, left.y, left.yaw, 1.0 if self._swing == LEFT else -1.0,
-                right.x, right.y, right.yaw, 1.0 if self._swing == RIGHT else -1.0)
+        return self._feet.vector()
 
     def next_footstep(self, command: StepCommand, step_time: float) -> Footstep:
         """Plan the next landing of the swing foot with the current command.
@@ -171,8 +140,7 @@ class OmnidirectionalStepper:
         :raises CommandError: if command is not a StepCommand
         :raises ConfigError: if step_time is not a finite number > 0
         """
-        if not isinstance(command, StepCommand):
-            raise CommandError(f'command must be a StepCommand, got {type(command).__name__}')
+        check_type('command', command, StepCommand, error=CommandError)
         params = self._params
         target = [min(max(command.step_length, -params.max_step_length), params.max_step_length),
                   min(max(command.step_width, -params.max_step_width), params.max_step_width),
@@ -190,23 +158,13 @@ class OmnidirectionalStepper:
         return self._step(0.0, 0.0, 0.0)
 
     def _step(self, forward: float, sideways: float, turn: float) -> Footstep:
-        body = self._body
+        """Move the body by (forward, sideways) in the heading halfway through the turn, then
+        land the swing foot beside it."""
+        body = self._feet.body
         heading = body.yaw + 0.5 * turn
         cos_h, sin_h = math.cos(heading), math.sin(heading)
-        moved = Pose2D(body.x + cos_h * forward - sin_h * sideways,
-                       body.y + sin_h * forward + cos_h * sideways, body.yaw + turn)
-        swing = self._swing
-        desired = _feet_at(moved, self._half_width)[0 if swing == LEFT else 1]
-        stance = self._feet[other_side(swing)]
-        landing = clamp_step(stance, desired, self._params.limits)
-        sign = 1.0 if swing == LEFT else -1.0
-        self._body = Pose2D(landing.x + sign * math.sin(landing.yaw) * self._half_width,
-                            landing.y - sign * math.cos(landing.yaw) * self._half_width,
-                            landing.yaw)
-        self._feet[swing] = landing
-        self._footsteps.append(landing)
-        self._swing = other_side(swing)
-        return landing
+        return self._feet.land(body.x + cos_h * forward - sin_h * sideways,
+                               body.y + sin_h * forward + cos_h * sideways, body.yaw + turn)
 
 
 def footsteps_from_commands(start: Pose2D, commands: Sequence[StepCommand], step_time: float,
@@ -249,12 +207,8 @@ def footsteps_from_schedule(start: Pose2D, schedule: Callable[[float], StepComma
     :return: the footstep list, closed with the feet side by side
     :raises ConfigError: if duration or step_time is out of range
     """
-    if isinstance(duration, bool) or not isinstance(duration, (int, float)) \
-            or not math.isfinite(duration) or duration < 0.0:
-        raise ConfigError(f'duration must be a finite number >= 0 s, got {duration!r}')
-    if isinstance(step_time, bool) or not isinstance(step_time, (int, float)) \
-            or not math.isfinite(step_time) or step_time <= 0.0:
-        raise ConfigError(f'step_time must be a finite number > 0 s, got {step_time!r}')
+    check_number('duration', duration, low=0.0, unit=' s')
+    check_number('step_time', step_time, low=0.0, low_open=True, unit=' s')
     t0 = 0.0 if t_first_step is None else t_first_step
     count = int(math.floor(duration / step_time + 1e-9))
     commands = [schedule(t0 + k * step_time) for k in range(count)]

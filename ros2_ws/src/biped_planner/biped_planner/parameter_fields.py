@@ -17,7 +17,10 @@ Example::
 """
 import dataclasses
 import math
+import numbers
 from typing import Optional, Sequence, Tuple
+
+from biped_planner.input_checks import is_finite_number
 
 _KEY = 'biped_parameter'
 
@@ -69,9 +72,12 @@ def field_specs(cls) -> dict:
     return {f.name: field_spec(f) for f in dataclasses.fields(cls) if field_spec(f) is not None}
 
 
-def _check_number(owner: str, name: str, value, spec: FieldSpec, error) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+def _check_number(owner: str, name: str, value, spec: FieldSpec, error,
+                  integer: bool = False) -> None:
+    if not is_finite_number(value):
         raise error(f'{owner}.{name} must be a finite number, got {value!r}')
+    if integer and not isinstance(value, numbers.Integral):
+        raise error(f'{owner}.{name} must be an integer, got {value!r}')
     low, high = spec.low, spec.high
     if (low is not None and (value < low or (spec.low_open and value == low))) or (
             high is not None and value > high):
@@ -83,7 +89,7 @@ def validate_fields(instance, error=ValueError) -> None:
     """Check every parameter() field of a dataclass instance against its spec.
 
     Numbers must be finite and in range (bools are not numbers; a tuple is checked element by
-    element), strings one of their choices, bools bools.
+    element), fields annotated ``int`` integers, strings one of their choices, bools bools.
 
     :param instance: the dataclass instance
     :param error: exception type to raise (the package's ConfigError)
@@ -105,4 +111,5 @@ def validate_fields(instance, error=ValueError) -> None:
             for element in value:
                 _check_number(owner, field.name, element, spec, error)
         else:
-            _check_number(owner, field.name, value, spec, error)
+            _check_number(owner, field.name, value, spec, error,
+                          integer=field.type in (int, 'int'))

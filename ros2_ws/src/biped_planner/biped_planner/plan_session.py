@@ -12,16 +12,19 @@ the swing foot is moving to footsteps[k + 2].
 """
 from dataclasses import dataclass
 import enum
-import math
 from typing import List, Optional, Tuple
 
 from biped_planner.astar import AStarPlanner
-from biped_planner.errors import ConfigError
 from biped_planner.footstep_planner import FootstepPlanner
-from biped_planner.footsteps import Footstep, LEFT, other_side, RIGHT
+from biped_planner.footsteps import foot_beside, Footstep
+from biped_planner.input_checks import check_integer
 from biped_planner.omnidirectional_stepper import (OmnidirectionalStepper, StepCommand,
                                                    StepperParams)
 from biped_planner.pose2d import Pose2D
+from biped_planner.sides import LEFT, other_side
+
+
+LOOKAHEAD_RANGE = (1, 10)  # teleop steps planned beyond the one being taken
 
 
 class PlanMode(enum.IntEnum):
@@ -46,20 +49,9 @@ class PlanUpdate:
     path: Tuple[Tuple[float, float], ...] = ()
 
 
-def feet_beside(body: Pose2D, step_width: float) -> Tuple[Footstep, Footstep]:
-    """:return: left and right soles side by side around a body pose."""
-    half = 0.5 * step_width
-    cos_yaw, sin_yaw = math.cos(body.yaw), math.sin(body.yaw)
-    return (Footstep(LEFT, body.x - sin_yaw * half, body.y + cos_yaw * half, body.yaw),
-            Footstep(RIGHT, body.x + sin_yaw * half, body.y - cos_yaw * half, body.yaw))
-
-
 def closing_footstep(stance: Footstep, step_width: float) -> Footstep:
     """:return: the other foot placed beside the stance foot, with its heading."""
-    sign = 1.0 if stance.side == RIGHT else -1.0  # the left foot goes to the stance's left
-    cos_yaw, sin_yaw = math.cos(stance.yaw), math.sin(stance.yaw)
-    return Footstep(other_side(stance.side), stance.x - sign * sin_yaw * step_width,
-                    stance.y + sign * cos_yaw * step_width, stance.yaw)
+    return foot_beside(stance.x, stance.y, stance.yaw, other_side(stance.side), step_width)
 
 
 class PlanSession:
@@ -67,9 +59,9 @@ class PlanSession:
 
     def __init__(self, planner: FootstepPlanner, stepper_params: StepperParams,
                  lookahead: int = 2, first_swing: int = LEFT) -> None:
-        """:param lookahead: teleop steps planned beyond the one being taken, [1, 10]."""
-        if not 1 <= lookahead <= 10:
-            raise ConfigError(f'lookahead must be in [1, 10], got {lookahead}')
+        """:param lookahead: teleop steps planned beyond the one being taken, in
+            LOOKAHEAD_RANGE."""
+        check_integer('lookahead', lookahead, *LOOKAHEAD_RANGE)
         self._planner = planner
         self._stepper_params = stepper_params
         self._lookahead = lookahead

@@ -1,8 +1,7 @@
 """A planar pose (x, y, yaw) of the robot's body, used for start and goal poses."""
 from dataclasses import dataclass
-import math
 
-from biped_planner.errors import ConfigError
+from biped_planner.input_checks import check_number
 
 
 @dataclass(frozen=True)
@@ -20,7 +19,4 @@ class Pose2D:
 
     def __post_init__(self) -> None:
         for name in ('x', 'y', 'yaw'):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value):
-                raise ConfigError(f'Pose2D.{name} must be a finite number, got {value!r}')
+            check_number(f'Pose2D.{name}', getattr(self, name))

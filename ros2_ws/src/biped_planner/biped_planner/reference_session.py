@@ -12,9 +12,11 @@ from typing import Optional, Sequence, Tuple
 
 from biped_planner.errors import ConfigError
 from biped_planner.footsteps import Footstep
+from biped_planner.reference_params import ReferenceParams
+from biped_planner.reference_window import ReferenceWindow
 from biped_planner.standing_reference import standing_window
 from biped_planner.step_timing import StepTiming
-from biped_planner.walking_reference import ReferenceParams, ReferenceWindow, WalkingReference
+from biped_planner.walking_reference import WalkingReference
 
 
 @dataclass(frozen=True)

@@ -2,10 +2,10 @@
 import numpy as np
 
 from biped_planner.footsteps import Footstep
+from biped_planner.reference_params import ReferenceParams
+from biped_planner.reference_window import ReferenceWindow
+from biped_planner.sides import SUPPORT_DOUBLE
 from biped_planner.support_polygon import double_support_box, scaled_foot_box
-from biped_planner.walking_reference import ReferenceParams, ReferenceWindow
-
-SUPPORT_DOUBLE = 2
 
 
 def standing_window(left: Footstep, right: Footstep, params: ReferenceParams, t0: float, n: int,

@@ -8,6 +8,7 @@ import enum
 import math
 
 from biped_planner.errors import CommandError, ConfigError
+from biped_planner.parameter_fields import parameter, validate_fields
 
 
 class CommandKind(enum.IntEnum):
@@ -20,32 +21,29 @@ class CommandKind(enum.IntEnum):
 
 @dataclass(frozen=True)
 class CommandLimits:
-    """What a walk command may ask for.
+    """What a walk command may ask for (each field's range is in its parameter()).
 
-    :param max_step_length: largest |step_length| per step (m)
-    :param max_step_width: largest |step_width| per step (m)
-    :param max_step_angle: largest |step_angle| per step (rad)
-    :param min_step_time: shortest step duration (s)
-    :param max_step_time: longest step duration (s)
-    :param max_goal_distance: largest |goal| coordinate (m)
+    min_step_time must not exceed max_step_time.
     """
 
-    max_step_length: float = 0.3
-    max_step_width: float = 0.2
-    max_step_angle: float = 0.5
-    min_step_time: float = 0.2
-    max_step_time: float = 3.0
-    max_goal_distance: float = 1000.0
+    max_step_length: float = parameter(0.3, 'largest |step_length| of an OMNI command (m)',
+                                       low=0.01, high=1.0)
+    max_step_width: float = parameter(0.2, 'largest |step_width| of an OMNI command (m)',
+                                      low=0.01, high=1.0)
+    max_step_angle: float = parameter(0.5, 'largest |step_angle| of an OMNI command (rad)',
+                                      low=0.01, high=1.5)
+    min_step_time: float = parameter(0.2, 'shortest step_time a command may ask for (s)',
+                                     low=0.05, high=10.0)
+    max_step_time: float = parameter(3.0, 'longest step_time a command may ask for (s)',
+                                     low=0.05, high=10.0)
+    max_goal_distance: float = parameter(
+        1000.0, 'largest |goal_x|, |goal_y| of a GOTO command (m)', low=1.0, high=1e6)
 
     def __post_init__(self) -> None:
-        for name in ('max_step_length', 'max_step_width', 'max_step_angle', 'min_step_time',
-                     'max_step_time', 'max_goal_distance'):
-            value = getattr(self, name)
-            if not math.isfinite(value) or value <= 0.0:
-                raise ConfigError(f'{name} must be finite and > 0, got {value!r}')
+        validate_fields(self, ConfigError)
         if self.min_step_time > self.max_step_time:
-            raise ConfigError(f'min_step_time {self.min_step_time} > max_step_time '
-                              f'{self.max_step_time}')
+            raise ConfigError(f'CommandLimits.min_step_time {self.min_step_time} > '
+                              f'max_step_time {self.max_step_time}')
 
 
 @dataclass(frozen=True)

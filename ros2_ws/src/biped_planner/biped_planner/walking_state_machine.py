@@ -2,15 +2,17 @@
 
 Idle -> Initialize -> Single Support <-> Double Support -> Idle, and Fallen from any phase.
 Transitions come from timers (the phase durations of the step timing) and conditions (a start or
-stop request, the end of the footstep plan, a detected fall). Time is always an argument.
+stop request, the end of the footstep plan, a fall detected by biped_planner.fall_detector).
+Time is always an argument.
 """
 from dataclasses import dataclass, field, replace
 import enum
-import math
 from typing import List, Optional
 
 from biped_planner.errors import CommandError, ConfigError
-from biped_planner.sides import SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
+from biped_planner.input_checks import check_number
+from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.sides import other_side, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
 
 
 class Phase(enum.IntEnum):
@@ -23,6 +25,9 @@ class Phase(enum.IntEnum):
     FALLEN = 4
 
 
+WALKING_PHASES = (Phase.INITIALIZE, Phase.SINGLE_SUPPORT, Phase.DOUBLE_SUPPORT)
+
+
 class Support(enum.IntEnum):
     """Which foot carries the robot (biped_planner.sides, the values of biped_msgs)."""
 
@@ -33,30 +38,22 @@ class Support(enum.IntEnum):
 
 @dataclass(frozen=True)
 class StateMachineParams:
-    """Timing and limits of the walking state machine.
+    """Timing and first support foot of the walking state machine (ranges in each parameter())."""
 
-    :param initialize_duration: time to shift the COM over the first support foot (s), [0.1, 5]
-    :param single_support: default single support duration (s), [0.1, 5]
-    :param double_support: default double support duration (s), [0.02, 5]
-    :param first_support: the first support foot, Support.LEFT or Support.RIGHT
-    """
-
-    initialize_duration: float = 1.0
-    single_support: float = 0.4
-    double_support: float = 0.1
-    first_support: Support = Support.RIGHT
+    initialize_duration: float = parameter(
+        1.0, 'time to shift the COM over the first support foot (s)', low=0.1, high=5.0)
+    single_support: float = parameter(0.4, 'default single support duration (s)',
+                                      low=0.1, high=5.0)
+    double_support: float = parameter(0.1, 'default double support duration (s)',
+                                      low=0.02, high=5.0)
+    first_support: Support = parameter(
+        Support.RIGHT, 'first support foot when no plan says: 0 left, 1 right', low=0, high=1)
 
     def __post_init__(self) -> None:
-        _check_range('initialize_duration', self.initialize_duration, 0.1, 5.0)
-        _check_range('single_support', self.single_support, 0.1, 5.0)
-        _check_range('double_support', self.double_support, 0.02, 5.0)
+        validate_fields(self, ConfigError)
         if self.first_support not in (Support.LEFT, Support.RIGHT):
-            raise ConfigError(f'first_support must be LEFT or RIGHT, got {self.first_support!r}')
-
-
-def _check_range(name: str, value: float, low: float, high: float) -> None:
-    if not isinstance(value, (int, float)) or not math.isfinite(value) or not low <= value <= high:
-        raise ConfigError(f'{name} must be a finite number in [{low}, {high}], got {value!r}')
+            raise ConfigError(f'StateMachineParams.first_support must be LEFT or RIGHT, got '
+                              f'{self.first_support!r}')
 
 
 @dataclass(frozen=True)
@@ -149,9 +146,8 @@ class WalkingStateMachine:
 
         :raises CommandError: if step_time is not finite and positive, or out of range
         """
-        if not isinstance(step_time, (int, float)) or not math.isfinite(step_time) \
-                or step_time <= 0.0:
-            raise CommandError(f'step_time must be a finite positive number, got {step_time!r}')
+        check_number('step_time', step_time, low=0.0, low_open=True, unit=' s',
+                     error=CommandError)
         ratio = self._timing.single_support / (
             self._timing.single_support + self._timing.double_support)
         self.set_timing(step_time * ratio, step_time * (1.0 - ratio))
@@ -216,8 +212,7 @@ class WalkingStateMachine:
         :param t: clock time (s), not earlier than the start of the current phase
         :return: the status after each transition, in order (empty if none happened)
         """
-        if not math.isfinite(t):
-            raise CommandError(f'time must be finite, got {t!r}')
+        check_number('time t', t, error=CommandError)
         transitions = []
         while True:
             status = self._status
@@ -251,7 +246,7 @@ class WalkingStateMachine:
     def support_of_step(self, step_index: int) -> Support:
         """:return: the support foot of single support number step_index (0-based)."""
         first = self._first_support
-        return first if step_index % 2 == 0 else Support(1 - first)
+        return first if step_index % 2 == 0 else Support(other_side(first))
 
     def _enter(self, phase: Phase, t: float, reason: str, **changes) -> WalkingStatus:
         durations = {
@@ -266,45 +261,3 @@ class WalkingStateMachine:
                                phase_duration=durations.get(phase, 0.0), reason=reason,
                                **changes)
         return self._status
-
-
-@dataclass(frozen=True)
-class FallDetectorParams:
-    """Thresholds of the fall detector.
-
-    :param min_base_height: pelvis height below which the robot has fallen (m), [0.05, 2]
-    :param max_tilt: torso tilt from vertical above which the robot has fallen (rad), (0, pi/2]
-    """
-
-    min_base_height: float = 0.45
-    max_tilt: float = 0.7
-
-    def __post_init__(self) -> None:
-        _check_range('min_base_height', self.min_base_height, 0.05, 2.0)
-        _check_range('max_tilt', self.max_tilt, 1e-3, math.pi / 2)
-
-
-def detect_fall(base_height: float, orientation_xyzw, params: FallDetectorParams) -> Optional[str]:
-    """Tell whether the robot has fallen, from its pelvis height and orientation.
-
-    :param base_height: pelvis height above the ground (m)
-    :param orientation_xyzw: pelvis orientation quaternion (x, y, z, w)
-    :param params: thresholds
-    :return: the reason if fallen, else None; non-finite inputs count as no information (None)
-    """
-    x, y, z, w = (float(v) for v in orientation_xyzw)
-    if not all(math.isfinite(v) for v in (base_height, x, y, z, w)):
-        return None
-    norm = math.sqrt(x * x + y * y + z * z + w * w)
-    if norm < 1e-9:
-        return None
-    x, y, z, w = x / norm, y / norm, z / norm, w / norm
-    # z component of the body's up axis in the world: cos(tilt)
-    up_z = 1.0 - 2.0 * (x * x + y * y)
-    tilt = math.acos(max(-1.0, min(1.0, up_z)))
-    if base_height < params.min_base_height:
-        return f'pelvis height {base_height:.3f} m below {params.min_base_height} m'
-    if tilt > params.max_tilt:
-        return f'torso tilt {math.degrees(tilt):.1f} deg above ' \
-               f'{math.degrees(params.max_tilt):.1f} deg'
-    return None

@@ -4,8 +4,10 @@ import math
 import pytest
 
 from biped_planner.errors import ConfigError
-from biped_planner.footsteps import (check_footstep_sequence, Footstep, LEFT, other_side, RIGHT,
+from biped_planner.footsteps import (body_beside, check_footstep_sequence, feet_beside,
+                                     foot_beside, Footstep, LEFT, other_side, RIGHT,
                                      straight_footsteps)
+from biped_planner.pose2d import Pose2D
 
 
 def test_footstep_is_frozen_and_validated():
@@ -79,3 +81,18 @@ def test_check_footstep_sequence_errors():
         check_footstep_sequence([good[0], good[1], good[0]])
     with pytest.raises(ConfigError, match='alternate'):
         check_footstep_sequence(good[:4] + [good[3]])
+
+
+@pytest.mark.parametrize('yaw', [0.0, 0.7, -2.5])
+def test_feet_beside_and_body_beside_are_inverse(yaw):
+    body = Pose2D(0.3, -0.2, yaw)
+    left, right = feet_beside(body, 0.2)
+    assert (left.side, right.side) == (LEFT, RIGHT)
+    assert math.hypot(left.x - right.x, left.y - right.y) == pytest.approx(0.2)
+    # the left foot is to the left of the heading
+    assert -math.sin(yaw) * (left.x - body.x) + math.cos(yaw) * (left.y - body.y) == \
+        pytest.approx(0.1)
+    for foot in (left, right):
+        back = body_beside(foot, 0.1)
+        assert (back.x, back.y, back.yaw) == pytest.approx((body.x, body.y, body.yaw))
+    assert foot_beside(body.x, body.y, yaw, RIGHT, 0.1) == right

@@ -15,6 +15,7 @@ class Example:
     offset: tuple = parameter((0.0, 0.1), 'offset (m)', low=-0.5, high=0.5)
     mode: str = parameter('closed', 'loop mode', choices=('closed', 'open'))
     enabled: bool = parameter(True, 'switch')
+    count: int = parameter(3, 'samples (1)', low=1, high=10)
     untracked: int = 4
 
     def __post_init__(self):
@@ -24,7 +25,7 @@ class Example:
 def test_defaults_are_valid_and_specs_are_listed():
     Example()
     specs = field_specs(Example)
-    assert set(specs) == {'gain', 'period', 'offset', 'mode', 'enabled'}
+    assert set(specs) == {'gain', 'period', 'offset', 'mode', 'enabled', 'count'}
     assert specs['gain'].bounds == (0.0, 20.0)
     assert specs['period'].bounds == (0.0, math.inf)
     assert specs['mode'].bounds == ('closed', 'open')
@@ -42,6 +43,8 @@ def test_defaults_are_valid_and_specs_are_listed():
     ({'offset': (0.0, 0.6)}, 'offset must be in [-0.5, 0.5], got 0.6'),
     ({'mode': 'half'}, "mode must be one of ('closed', 'open'), got 'half'"),
     ({'enabled': 1}, 'enabled must be a bool'),
+    ({'count': 2.5}, 'count must be an integer, got 2.5'),
+    ({'count': 0}, 'count must be in [1, 10], got 0'),
 ])
 def test_every_documented_bad_value_is_refused(changes, message):
     with pytest.raises(ConfigError, match=message.replace('(', r'\(').replace(')', r'\)')
@@ -50,4 +53,4 @@ def test_every_documented_bad_value_is_refused(changes, message):
 
 
 def test_edges_are_allowed():
-    Example(gain=0.0, period=1e-9, offset=(-0.5, 0.5), mode='open', enabled=False)
+    Example(gain=0.0, period=1e-9, offset=(-0.5, 0.5), mode='open', enabled=False, count=10)

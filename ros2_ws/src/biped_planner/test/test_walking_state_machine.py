@@ -3,8 +3,7 @@ import math
 import pytest
 
 from biped_planner.errors import CommandError, ConfigError
-from biped_planner.walking_state_machine import (detect_fall, FallDetectorParams, Phase,
-                                                 StateMachineParams, Support,
+from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
                                                  WalkingStateMachine)
 
 PARAMS = StateMachineParams(initialize_duration=1.0, single_support=0.4, double_support=0.1,
@@ -122,15 +121,3 @@ def test_bad_step_time_is_a_command_error(step_time):
     with pytest.raises(CommandError, match='step_time'):
         machine.set_step_time(step_time)
     assert machine.single_support == 0.4
-
-
-def quat_about_x(angle):
-    return (math.sin(angle / 2), 0.0, 0.0, math.cos(angle / 2))
-
-
-@pytest.mark.parametrize('height, tilt, fallen', [
-    (0.8, 0.0, False), (0.3, 0.0, True), (0.8, 0.5, False), (0.8, 0.9, True),
-    (0.8, math.pi, True), (math.nan, 0.0, False)])
-def test_fall_detector(height, tilt, fallen):
-    reason = detect_fall(height, quat_about_x(tilt), FallDetectorParams(0.45, 0.7))
-    assert (reason is not None) == fallen

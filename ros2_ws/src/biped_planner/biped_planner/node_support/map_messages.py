@@ -10,6 +10,7 @@ from biped_planner.errors import MapError
 from biped_planner.occupancy_grid import OccupancyGrid
 from biped_planner.rotations import yaw_of_quaternion
 
+
 def grid_from_msg(msg: OccupancyGridMsg) -> OccupancyGrid:
     """:raises MapError: for a rotated origin or malformed sizes and values."""
     q = msg.info.origin.orientation

@@ -1,6 +1,6 @@
 """The reference window (planner -> MPC) as biped_msgs/ReferenceTrajectory and back.
 
-The one message form of biped_planner.walking_reference.ReferenceWindow: the reference
+The one message form of biped_planner.reference_window.ReferenceWindow: the reference
 generator publishes it, the MPC controller reads it.
 """
 import array
@@ -8,7 +8,7 @@ import array
 from biped_msgs.msg import ReferenceTrajectory
 import numpy as np
 
-from biped_planner.walking_reference import ReferenceWindow
+from biped_planner.reference_window import ReferenceWindow
 
 UNBOUNDED = 1e9  # stands for +-inf in ReferenceTrajectory bounds (CDR carries inf, users read 1e9)
 # ReferenceTrajectory's float64[] fields as (ReferenceWindow field, its columns): the feet first,

@@ -10,8 +10,10 @@ from geometry_msgs.msg import PoseStamped, Quaternion
 from nav_msgs.msg import Path
 from visualization_msgs.msg import Marker, MarkerArray
 
-from biped_planner.footsteps import Footstep, LEFT, RIGHT
+from biped_planner.footsteps import Footstep
 from biped_planner.pose2d import Pose2D
+from biped_planner.rotations import mean_angle, quaternion_from_yaw, wrap_angle, yaw_of_quaternion
+from biped_planner.sides import LEFT, RIGHT
 from biped_planner.walk_command import CommandLimits, WalkCommand
 from biped_planner.walking_state_machine import WalkingStatus
 
@@ -53,17 +55,19 @@ def command_status_msg(node_name: str, command: int, error_code: int, error_msg:
     return msg
 
 
-def yaw_from_quaternion(q) -> float:
-    """Heading of a quaternion message (rotation about z), rad."""
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+def yaw_of_msg(q) -> float:
+    """Heading of a geometry_msgs/Quaternion (rad), biped_planner.rotations.yaw_of_quaternion."""
+    return yaw_of_quaternion((q.x, q.y, q.z, q.w))
 
 
-def quaternion_from_yaw(yaw: float) -> Quaternion:
-    return Quaternion(z=math.sin(0.5 * yaw), w=math.cos(0.5 * yaw))
+def quaternion_msg_from_yaw(yaw: float) -> Quaternion:
+    """geometry_msgs/Quaternion of a rotation by yaw about z."""
+    x, y, z, w = (float(v) for v in quaternion_from_yaw(yaw))
+    return Quaternion(x=x, y=y, z=z, w=w)
 
 
 def pose2d_from_pose(pose) -> Pose2D:
-    return Pose2D(pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+    return Pose2D(pose.position.x, pose.position.y, yaw_of_msg(pose.orientation))
 
 
 def footstep_msgs(footsteps) -> list:
@@ -132,7 +136,7 @@ def footstep_markers(footsteps, foot_length: float, foot_width: float, frame_id:
         marker.action = Marker.ADD
         marker.pose.position.x, marker.pose.position.y = float(step.x), float(step.y)
         marker.pose.position.z = 0.005
-        marker.pose.orientation = quaternion_from_yaw(step.yaw)
+        marker.pose.orientation = quaternion_msg_from_yaw(step.yaw)
         marker.scale.x, marker.scale.y, marker.scale.z = foot_length, foot_width, 0.01
         marker.color.a = 0.8
         marker.color.r, marker.color.b = (1.0, 0.0) if step.side == LEFT else (0.0, 1.0)
@@ -149,7 +153,7 @@ def feet_from_sole_poses(msg):
         raise ValueError(f'sole_poses must hold 2 poses, got {len(msg.poses)}')
     feet = []
     for side, pose in zip((LEFT, RIGHT), msg.poses):
-        values = (pose.position.x, pose.position.y, yaw_from_quaternion(pose.orientation))
+        values = (pose.position.x, pose.position.y, yaw_of_msg(pose.orientation))
         if not all(math.isfinite(v) for v in values):
             raise ValueError('sole_poses are not finite')
         feet.append(Footstep(side, *values))
@@ -159,6 +163,6 @@ def feet_from_sole_poses(msg):
 def body_between(feet) -> Pose2D:
     """The body pose midway between two feet, with their mean heading."""
     left, right = feet
-    yaw = math.atan2(math.sin(left.yaw) + math.sin(right.yaw),
-                     math.cos(left.yaw) + math.cos(right.yaw))
-    return Pose2D(0.5 * (left.x + right.x), 0.5 * (left.y + right.y), yaw)
+    yaw = mean_angle(left.yaw, right.yaw)  # exactly the feet's heading when they agree
+    return Pose2D(0.5 * (left.x + right.x), 0.5 * (left.y + right.y),
+                  yaw if -math.pi < yaw <= math.pi else wrap_angle(yaw))

@@ -2,7 +2,8 @@
 
 Subscribes: map (nav_msgs/OccupancyGrid, transient local), goal_pose (geometry_msgs/PoseStamped),
 walk_command (biped_msgs/WalkCommand), cmd_vel (geometry_msgs/Twist), sole_poses
-(geometry_msgs/PoseArray from the controller: a plan starts between the feet; odom until then), walking_state (biped_msgs/WalkingState: teleop plans stay ahead of it).
+(geometry_msgs/PoseArray from the controller: a plan starts between the feet; odom until then),
+walking_state (biped_msgs/WalkingState: teleop plans stay ahead of it).
 Publishes (transient local): footstep_plan (biped_msgs/FootstepPlan, with status and error code),
 plan (nav_msgs/Path), footstep_markers (visualization_msgs/MarkerArray); and
 walk_command_status (biped_msgs/CommandStatus) for the commands it acts on.
@@ -13,7 +14,6 @@ from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkComma
 from geometry_msgs.msg import PoseArray, PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from visualization_msgs.msg import MarkerArray
 
 from biped_planner.astar import AStarPlanner
@@ -21,51 +21,24 @@ from biped_planner.errors import (BipedPlannerError, CommandError, GoalOccupiedE
                                   GoalOutsideMapError, MapError, NoPathError,
                                   StartOccupiedError, StartOutsideMapError)
 from biped_planner.footstep_planner import FootstepPlanner, FootstepPlannerParams
-from biped_planner.node_support.map_messages import grid_from_msg
-from biped_planner.nodes.conversions import (body_between, command_status_msg, failed_plan_msg,
-                                             feet_from_sole_poses,
-                                             footstep_markers, footstep_plan_msg,
-                                             path_msg, pose2d_from_pose,
-                                             walk_command_from_msg)
-from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
-from biped_planner.nodes.state_machine import LIMIT_SPECS
+from biped_planner.node_support.map_messages import grid_from_msg
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.qos import LATCHED, LATCHED_IN
+from biped_planner.nodes.conversions import (body_between, command_status_msg, failed_plan_msg,
+                                             feet_from_sole_poses, footstep_markers,
+                                             footstep_plan_msg, path_msg, pose2d_from_pose,
+                                             walk_command_from_msg)
 from biped_planner.occupancy_grid import InflationParams
 from biped_planner.omnidirectional_stepper import command_from_twist, StepCommand, StepperParams
-from biped_planner.plan_session import PlanMode, PlanSession
+from biped_planner.plan_session import LOOKAHEAD_RANGE, PlanMode, PlanSession
 from biped_planner.pose2d import Pose2D
+from biped_planner.step_timing import StepTiming
 from biped_planner.walk_command import CommandKind, CommandLimits
+from biped_planner.walking_state_machine import WALKING_PHASES
 
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                     reliability=ReliabilityPolicy.RELIABLE)
-# Subscribers keep more than the latest: two plans in a burst must both be seen.
-LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                        reliability=ReliabilityPolicy.RELIABLE)
-PLANNER_SPECS = {
-    'step_length': ('R: advance of the body per step along the path (m)', (0.01, 0.5)),
-    'step_width': ('2d: distance between the feet lines (m)', (0.05, 1.0)),
-    'lookahead': ('distance along the path of the point sigma aims at (m)', (0.01, 5.0)),
-    'lag_time_constant': ('tau of the first-order lag filter on the action (s)', (0.0, 100.0)),
-    'step_time': ('update interval of the lag filter, one step (s)', (0.05, 5.0)),
-    'goal_tolerance': ('distance at which the body has reached the goal (m)', (1e-4, 0.5)),
-    'heading_tolerance': ('heading error at which the final turn stops (rad)', (1e-6, 0.5)),
-    'max_steps': ('the planner gives up after this many steps', (1, 100000)),
-}
-INFLATION_SPECS = {
-    'scale': ('obstacles are scaled by this factor before planning (paper: 1.1)', (1.0, 3.0)),
-    'robot_radius': ('obstacles are grown by this radius (m)', (0.0, 2.0)),
-    'occupied_threshold': ('cells with a value >= this are occupied (0-100)', (1, 100)),
-    'unknown_is_occupied': ('unknown cells (-1) are treated as occupied', None),
-    'outside_is_occupied': ('the map border counts as occupied', None),
-}
-STEPPER_SPECS = {
-    'step_width': ('nominal distance between the soles in teleop (m)', (0.05, 1.0)),
-    'lag_time_constant': ('tau of the lag filter on teleop commands (s)', (0.0, 100.0)),
-    'max_step_length': ('|X| bound of a teleop step (m)', (0.0, 1.0)),
-    'max_step_width': ('|Y| bound of a teleop step (m)', (0.0, 1.0)),
-    'max_step_angle': ('|alpha| bound of a teleop step (rad)', (0.0, 1.5708)),
-}
+
 PLANNING_ERRORS = [
     (StartOutsideMapError, FootstepPlan.ERROR_START_OUTSIDE_MAP),
     (GoalOutsideMapError, FootstepPlan.ERROR_GOAL_OUTSIDE_MAP),
@@ -75,8 +48,6 @@ PLANNING_ERRORS = [
     (MapError, FootstepPlan.ERROR_MALFORMED_MAP),
     (CommandError, FootstepPlan.ERROR_INVALID_COMMAND),
 ]
-WALKING_PHASES = (WalkingState.INITIALIZE, WalkingState.SINGLE_SUPPORT,
-                  WalkingState.DOUBLE_SUPPORT)
 
 
 class FootstepPlannerNode(Node):
@@ -84,22 +55,25 @@ class FootstepPlannerNode(Node):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('footstep_planner', **kwargs)
+        # Descriptions and ranges come from the dataclasses' parameter() fields.
         planner_params = declare_dataclass_parameters(
-            self, FootstepPlannerParams(), PLANNER_SPECS, prefix='path.',
+            self, FootstepPlannerParams(), {}, prefix='path.',
             fixed={'limits': FootstepPlannerParams().limits})
-        self._inflation = declare_dataclass_parameters(self, InflationParams(), INFLATION_SPECS,
+        self._inflation = declare_dataclass_parameters(self, InflationParams(), {},
                                                        prefix='inflation.')
         stepper_params = declare_dataclass_parameters(
-            self, StepperParams(), STEPPER_SPECS, prefix='teleop.',
+            self, StepperParams(), {}, prefix='teleop.',
             fixed={'limits': StepperParams().limits})
         self._limits = declare_dataclass_parameters(
-            self, CommandLimits(), LIMIT_SPECS, prefix='limits.',
+            self, CommandLimits(), {}, prefix='limits.',
             on_change=lambda p: setattr(self, '_limits', p))
+        # The step timing written into every plan.
+        self._timing = declare_dataclass_parameters(
+            self, StepTiming(), {}, on_change=lambda p: setattr(self, '_timing', p))
         declare_node_parameters(self, {
             'map_frame': ('map', 'frame of the map, goals and plans', None),
-            'single_support': (0.4, 'single support written into every plan (s)', (0.05, 5.0)),
-            'double_support': (0.1, 'double support written into every plan (s)', (0.01, 5.0)),
-            'teleop_lookahead': (2, 'teleop steps planned beyond the one being taken', (0, 20)),
+            'teleop_lookahead': (2, 'teleop steps planned beyond the one being taken',
+                                 LOOKAHEAD_RANGE),
             'foot_length': (0.2, 'sole length, for the markers (m)', (0.01, 1.0)),
             'foot_width': (0.1, 'sole width, for the markers (m)', (0.01, 1.0))})
         self._frame = self.get_parameter('map_frame').value
@@ -215,8 +189,7 @@ class FootstepPlannerNode(Node):
 
     # --- planning ---------------------------------------------------------------------------
     def _step_time(self) -> float:
-        return self.get_parameter('single_support').value + \
-            self.get_parameter('double_support').value
+        return self._timing.step_time
 
     def _walking(self) -> bool:
         return self._state is not None and self._state.phase in WALKING_PHASES
@@ -263,8 +236,8 @@ class FootstepPlannerNode(Node):
             return
         stamp = self.get_clock().now().to_msg()
         self._plan_pub.publish(footstep_plan_msg(
-            update, self.get_parameter('single_support').value,
-            self.get_parameter('double_support').value, self._frame, stamp))
+            update, self._timing.single_support, self._timing.double_support, self._frame,
+            stamp))
         self._marker_pub.publish(footstep_markers(
             update.footsteps, self.get_parameter('foot_length').value,
             self.get_parameter('foot_width').value, self._frame, stamp))

@@ -16,42 +16,22 @@ from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkingState
 from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
 from sensor_msgs.msg import JointState
 
 from biped_planner.errors import BipedPlannerError
+from biped_planner.footsteps import feet_beside
+from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
+                                                             declare_node_parameters)
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
 from biped_planner.nodes.conversions import (feet_from_sole_poses, footsteps_from_msgs,
                                              pose2d_from_pose)
-from biped_planner.node_support.node_runner import run_node
-from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
-                                                             declare_node_parameters)
-from biped_planner.plan_session import feet_beside
+from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_session import ReferenceSession
 from biped_planner.step_timing import StepTiming
-from biped_planner.walking_reference import ReferenceParams
-
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                     reliability=ReliabilityPolicy.RELIABLE)
-# Subscribers keep more than the latest: two plans in a burst must both be seen.
-LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                        reliability=ReliabilityPolicy.RELIABLE)
-REFERENCE_SPECS = {
-    'com_height': ('LIPM height of the hip, omega = sqrt(g / z) (m)', (0.06, 5.0)),
-    'swing_height': ('highest point of the swing foot (m)', (0.0, 0.5)),
-    'foot_length': ('sole length (m)', (0.01, 1.0)),
-    'foot_width': ('sole width (m)', (0.01, 1.0)),
-    'support_scale': ('scale of the foot in the ZMP bounds (paper: 0.9)', (0.01, 1.0)),
-    'gravity': ('gravitational acceleration (m/s^2)', (0.1, 30.0)),
-    'landing_half_length': ('half size along x of the swing landing box (m)', (0.0, 2.0)),
-    'landing_half_width': ('half size along y of the swing landing box (m)', (0.0, 2.0)),
-    'initial_shift_time': ('COM shift before the first step; = the state machine\'s '
-                           'initialize_duration (s)', (0.1, 10.0)),
-    'final_settle_time': ('final double support that brings the hip to rest (s)', (0.1, 10.0)),
-}
-WALKING_PHASES = (WalkingState.INITIALIZE, WalkingState.SINGLE_SUPPORT,
-                  WalkingState.DOUBLE_SUPPORT)
+from biped_planner.walking_state_machine import WALKING_PHASES
 
 
 class ReferenceGeneratorNode(Node):
@@ -59,7 +39,8 @@ class ReferenceGeneratorNode(Node):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('reference_generator', **kwargs)
-        params = declare_dataclass_parameters(self, ReferenceParams(), REFERENCE_SPECS)
+        # Descriptions and ranges come from ReferenceParams' parameter() fields.
+        params = declare_dataclass_parameters(self, ReferenceParams(), {})
         declare_node_parameters(self, {
             'horizon': (90, 'samples per reference (the MPC needs Np = 80)', (2, 10000)),
             'dt': (0.02, 'sample period of the references, the MPC Ts (s)', (0.001, 1.0)),

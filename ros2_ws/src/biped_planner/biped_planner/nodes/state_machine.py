@@ -12,43 +12,19 @@ from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkComma
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from biped_planner.errors import CommandError
-from biped_planner.nodes.conversions import (command_status_msg, walk_command_from_msg,
-                                             walking_state_msg)
-from biped_planner.node_support.node_runner import run_node
+from biped_planner.fall_detector import detect_fall, FallDetectorParams
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.qos import LATCHED_IN
+from biped_planner.nodes.conversions import (command_status_msg, walk_command_from_msg,
+                                             walking_state_msg)
+from biped_planner.sides import SIDES
 from biped_planner.walk_command import CommandKind, CommandLimits
-from biped_planner.walking_state_machine import (detect_fall, FallDetectorParams, Phase,
-                                                 StateMachineParams, Support,
-                                                 WalkingStateMachine)
-
-TIMING_SPECS = {
-    'initialize_duration': ('time to shift the COM over the first support foot (s)', (0.1, 5.0)),
-    'single_support': ('default single support duration (s)', (0.1, 5.0)),
-    'double_support': ('default double support duration (s)', (0.02, 5.0)),
-    'first_support': ('first support foot when no plan says: 0 left, 1 right', (0, 1)),
-}
-FALL_SPECS = {
-    'min_base_height': ('pelvis height below which the robot has fallen (m)', (0.05, 2.0)),
-    'max_tilt': ('torso tilt above which the robot has fallen (rad)', (0.001, 1.5708)),
-}
-WALKING = (Phase.INITIALIZE, Phase.SINGLE_SUPPORT, Phase.DOUBLE_SUPPORT)
-LIMIT_SPECS = {
-    'max_step_length': ('largest |step_length| of an OMNI command (m)', (0.01, 1.0)),
-    'max_step_width': ('largest |step_width| of an OMNI command (m)', (0.01, 1.0)),
-    'max_step_angle': ('largest |step_angle| of an OMNI command (rad)', (0.01, 1.5)),
-    'min_step_time': ('shortest step_time a command may ask for (s)', (0.05, 10.0)),
-    'max_step_time': ('longest step_time a command may ask for (s)', (0.05, 10.0)),
-    'max_goal_distance': ('largest |goal_x|, |goal_y| of a GOTO command (m)', (1.0, 1e6)),
-}
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                     reliability=ReliabilityPolicy.RELIABLE)
-# Subscribers keep more than the latest: two plans in a burst must both be seen.
-LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                        reliability=ReliabilityPolicy.RELIABLE)
+from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
+                                                 WALKING_PHASES, WalkingStateMachine)
 
 
 class StateMachineNode(Node):
@@ -56,13 +32,14 @@ class StateMachineNode(Node):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('state_machine', **kwargs)
-        params = declare_dataclass_parameters(self, StateMachineParams(), TIMING_SPECS,
+        # Descriptions and ranges come from the dataclasses' parameter() fields.
+        params = declare_dataclass_parameters(self, StateMachineParams(), {},
                                               on_change=self._on_timing_change)
         self._fall_params = declare_dataclass_parameters(
-            self, FallDetectorParams(), FALL_SPECS, prefix='fall.',
+            self, FallDetectorParams(), {}, prefix='fall.',
             on_change=lambda p: setattr(self, '_fall_params', p))
         self._limits = declare_dataclass_parameters(
-            self, CommandLimits(), LIMIT_SPECS, prefix='limits.',
+            self, CommandLimits(), {}, prefix='limits.',
             on_change=lambda p: setattr(self, '_limits', p))
         declare_node_parameters(self, {
             'publish_rate': (50.0, 'walking_state messages per second besides transitions (Hz)',
@@ -168,7 +145,7 @@ class StateMachineNode(Node):
                 else None
             self._stale = False
             first = Support(msg.footsteps[0].side) if msg.footsteps and \
-                msg.footsteps[0].side in (0, 1) else None
+                msg.footsteps[0].side in SIDES else None
             try:
                 self._machine.set_plan(steps, first, planned=True)
                 if msg.single_support > 0.0 and msg.double_support > 0.0:
@@ -226,7 +203,7 @@ class StateMachineNode(Node):
 
     def _check_plan_alive(self, now: float) -> None:
         """End a teleop walk where its last plan ends when the planner falls silent."""
-        if self._continuous_plan is None or self.phase not in WALKING:
+        if self._continuous_plan is None or self.phase not in WALKING_PHASES:
             return
         arrived, steps = self._continuous_plan
         if now - arrived > self.get_parameter('plan_timeout').value:
