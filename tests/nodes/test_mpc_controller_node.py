@@ -7,8 +7,9 @@ from rclpy.parameter import Parameter
 from sensor_msgs.msg import JointState
 
 from biped_mpc.nodes.mpc_controller import MpcControllerNode
-from biped_planner.footsteps import Footstep, LEFT, RIGHT
+from biped_planner.footsteps import Footstep
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
+from biped_planner.sides import LEFT, RIGHT
 from biped_planner.standing_reference import standing_window
 from biped_planner.walking_reference import ReferenceParams
 from biped_sim.nodes.simulator import SimulatorNode

@@ -177,3 +177,18 @@ def test_odometry_twist_is_in_the_pelvis_frame_as_nav_msgs_specifies():
     assert (twist.linear.x, twist.linear.y) == pytest.approx((0.3, 0.0), abs=1e-12)
     assert twist.angular.z == pytest.approx(0.2)
     assert (msg.header.frame_id, msg.child_frame_id) == ('map', 'pelvis')
+
+
+def test_the_robot_is_a_parameter_checked_against_the_library_catalogue(ros_context):
+    with pytest.raises(ValueError, match='robot'):
+        SimulatorNode(context=ros_context, parameter_overrides=[
+            Parameter('robot', value='banana')])
+
+
+def test_the_model_plant_backend_publishes_the_leg_joints(ros_context, executor):
+    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('backend', value='model'), Parameter('real_time_factor', value=5.0)]))
+    client = executor.track(rclpy.create_node('sim_model_client', context=ros_context))
+    joints = Collector(client, JointState, 'joint_states', 100)
+    assert joints.wait_for(executor, lambda m: len(m) >= 3, timeout=15)
+    assert list(joints.messages[-1].name) == list(node._backend.leg_joint_names)

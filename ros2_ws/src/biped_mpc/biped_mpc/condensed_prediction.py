@@ -2,7 +2,7 @@
 import numpy as np
 
 from biped_mpc.errors import ConfigError
-from biped_mpc.linear_model import DiscreteLinearModel
+from biped_mpc.linear_model import DiscreteLinearModel, frozen_array
 
 
 def move_starts(move_blocks: tuple) -> np.ndarray:
@@ -85,17 +85,13 @@ class CondensedPrediction:
             x_from_u = a @ x_from_u + b
             x_from_du = a @ x_from_du + b @ selection[i]
             phi[i], phi_u[i], gamma[i] = x_from_x, x_from_u, x_from_du
-        self.states_from_state = _read_only(phi.reshape(-1, nx))
-        self.states_from_input = _read_only(phi_u.reshape(-1, nu))
-        self.states_from_moves = _read_only(gamma.reshape(-1, n_dec))
-        self.outputs_from_state = _read_only(np.einsum('oj,ijk->iok', c, phi).reshape(-1, nx))
-        self.outputs_from_input = _read_only(np.einsum('oj,ijk->iok', c, phi_u).reshape(-1, nu))
-        self.outputs_from_moves = _read_only(np.einsum('oj,ijk->iok', c, gamma).reshape(-1, n_dec))
-        self.inputs_from_moves = _read_only(selection.reshape(-1, n_dec))
+        self.states_from_state = frozen_array(phi.reshape(-1, nx))
+        self.states_from_input = frozen_array(phi_u.reshape(-1, nu))
+        self.states_from_moves = frozen_array(gamma.reshape(-1, n_dec))
+        outputs_of = lambda states: np.einsum('oj,ijk->iok', c, states)  # noqa: E731
+        self.outputs_from_state = frozen_array(outputs_of(phi).reshape(-1, nx))
+        self.outputs_from_input = frozen_array(outputs_of(phi_u).reshape(-1, nu))
+        self.outputs_from_moves = frozen_array(outputs_of(gamma).reshape(-1, n_dec))
+        self.inputs_from_moves = frozen_array(selection.reshape(-1, n_dec))
         self.n_states, self.n_inputs, self.n_outputs = nx, nu, ny
 
-
-def _read_only(array: np.ndarray) -> np.ndarray:
-    array = np.ascontiguousarray(array)
-    array.setflags(write=False)
-    return array

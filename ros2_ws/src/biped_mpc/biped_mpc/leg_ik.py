@@ -24,12 +24,14 @@ import math
 import numpy as np
 
 from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.leg_kinematics import LegKinematics
 from biped_mpc.robot_model import LegGeometry
+from biped_mpc.validation import validated_pose
+from biped_planner.rotations import rotation_x, rotation_y
+from biped_planner.sides import LEFT, RIGHT
 
 IK_REACHABLE = 0
 IK_CLIPPED = 1
-LEFT = 0
-RIGHT = 1
 
 
 @dataclass(frozen=True)
@@ -49,47 +51,6 @@ class LegIkSolution:
         return self.status[0] == IK_REACHABLE and self.status[1] == IK_REACHABLE
 
 
-def yaw_rotation(yaw: float) -> np.ndarray:
-    """Return the rotation matrix of a heading about world z.
-
-    :param yaw: heading (rad).
-    :return: (3, 3) rotation.
-    """
-    c, s = math.cos(yaw), math.sin(yaw)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def _rot_x(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def _rot_y(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def _rot_z(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def validated_pose(name: str, position, rotation) -> tuple:
-    """Return a pose as float arrays (position (3,), rotation (3, 3)).
-
-    :param name: what the pose is, for the error message.
-    :raises InputError: for wrong shapes or NaN/inf.
-    """
-    p = np.asarray(position, dtype=float)
-    r = np.asarray(rotation, dtype=float)
-    if p.shape != (3,) or r.shape != (3, 3):
-        raise InputError('%s: position shape %s and rotation shape %s, expected (3,) and (3, 3)'
-                         % (name, p.shape, r.shape))
-    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(r))):
-        raise InputError('%s pose has NaN or inf: position %r' % (name, position))
-    return p, r
-
-
 class AnalyticLegIk:
     """Closed-form IK of both legs (see the module docstring for the equations).
 
@@ -100,6 +61,7 @@ class AnalyticLegIk:
         if not isinstance(geometry, LegGeometry):
             raise ConfigError(f'geometry must be a LegGeometry, got {type(geometry).__name__}')
         self._geometry = geometry
+        self._kinematics = LegKinematics(geometry)
         g = self._geometry
         mirror = np.array([1.0, -1.0, 1.0])
         self._hip = (np.array(g.hip_offset), np.array(g.hip_offset) * mirror)
@@ -177,7 +139,8 @@ class AnalyticLegIk:
         wz = math.copysign(math.sqrt(r[1] * r[1] + r[2] * r[2]), r[2])
         ankle_pitch = (math.atan2(-a * math.sin(knee), a * math.cos(knee) + b)
                        - math.atan2(r[0], wz))
-        hip_r = (pelvis_r.T @ sole_r @ _rot_x(-ankle_roll) @ _rot_y(-(knee + ankle_pitch)))
+        hip_r = (pelvis_r.T @ sole_r @ rotation_x(-ankle_roll)
+                 @ rotation_y(-(knee + ankle_pitch)))
         hip_roll = math.asin(min(max(hip_r[2, 1], -1.0), 1.0))
         hip_yaw = math.atan2(-hip_r[0, 1], hip_r[1, 1])
         hip_pitch = math.atan2(-hip_r[2, 0], hip_r[2, 2])
@@ -189,7 +152,8 @@ class AnalyticLegIk:
 
     def forward_leg(self, side: int, q, pelvis_position=(0.0, 0.0, 0.0),
                     pelvis_rotation=np.eye(3)) -> tuple:
-        """Return the sole pose (position (3,), rotation (3, 3)) of one leg's angles.
+        """Return the sole pose (position (3,), rotation (3, 3)) of one leg's angles (checked
+        inputs, then biped_mpc.leg_kinematics).
 
         :param side: LEFT (0) or RIGHT (1).
         :param q: (6,) angles of that leg (rad).
@@ -203,14 +167,7 @@ class AnalyticLegIk:
         if q.shape != (6,) or not np.all(np.isfinite(q)):
             raise InputError('q = %r must be 6 finite angles' % (q,))
         p, r = validated_pose('pelvis', pelvis_position, pelvis_rotation)
-        g = self._geometry
-        hip_r = r @ _rot_z(q[0]) @ _rot_x(q[1]) @ _rot_y(q[2])
-        hip = p + r @ self._hip[side]
-        knee_r = hip_r @ _rot_y(q[3])
-        ankle = hip + hip_r @ np.array([0.0, 0.0, -g.thigh_length]) \
-            + knee_r @ np.array([0.0, 0.0, -g.shank_length])
-        foot_r = knee_r @ _rot_y(q[4]) @ _rot_x(q[5])
-        return ankle + foot_r @ self._sole[side], foot_r
+        return self._kinematics.forward_leg(side, q, p, r)
 
     def forward(self, q, pelvis_position=(0.0, 0.0, 0.0), pelvis_rotation=np.eye(3)) -> tuple:
         """Return (left position, left rotation, right position, right rotation) of 12 angles.

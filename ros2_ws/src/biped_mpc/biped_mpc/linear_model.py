@@ -44,7 +44,8 @@ def state_index(mass: int, order: int) -> int:
     return STATES_PER_MASS * mass + order
 
 
-def _frozen(array: np.ndarray) -> np.ndarray:
+def frozen_array(array: np.ndarray) -> np.ndarray:
+    """A read-only float copy of an array (the models' matrices never change once built)."""
     array = np.array(array, dtype=float)
     array.setflags(write=False)
     return array
@@ -178,6 +179,6 @@ class LinearModel:
         """
         inputs = np.column_stack([self.b, self.force_input])
         a_d, b_d = discretize_exact(self.a, inputs, dt)
-        return DiscreteLinearModel(name=self.name, a=_frozen(a_d), b=_frozen(b_d[:, :N_INPUTS]),
-                                   c=_frozen(self.c), force_input=_frozen(b_d[:, N_INPUTS]),
-                                   dt=float(dt))
+        return DiscreteLinearModel(name=self.name, a=frozen_array(a_d),
+                                   b=frozen_array(b_d[:, :N_INPUTS]), c=frozen_array(self.c),
+                                   force_input=frozen_array(b_d[:, N_INPUTS]), dt=float(dt))

@@ -1,10 +1,10 @@
 """The LIPM (cart-table) model of the baseline controller, in the three-mass layout."""
 from dataclasses import dataclass
-import math
 
 from biped_mpc.errors import ConfigError
 from biped_mpc.linear_model import LinearModel
 from biped_mpc.three_mass_model import ThreeMassParams
+from biped_planner.parameter_fields import parameter, validate_fields
 
 # Legs of the LIPM are massless; a height is still needed by the shared layout and never used.
 _MASSLESS_LEG_HEIGHT = 1.0
@@ -19,17 +19,15 @@ class LipmParams:
     :param gravity: gravitational acceleration (m/s^2), (0, 100]
     """
 
-    mass: float = 80.0
-    com_height: float = 0.9375
-    gravity: float = 9.81
+    mass: float = parameter(80.0, 'total mass of the robot (kg)', low=0.0, high=1000.0,
+                            low_open=True)
+    com_height: float = parameter(0.9375, 'constant height of the centre of mass (m)', low=0.0,
+                                  high=10.0, low_open=True)
+    gravity: float = parameter(9.81, 'gravitational acceleration (m/s^2)', low=0.0, high=100.0,
+                               low_open=True)
 
     def __post_init__(self) -> None:
-        for name, high, unit in (('mass', 1000.0, 'kg'), ('com_height', 10.0, 'm'),
-                                 ('gravity', 100.0, 'm/s^2')):
-            value = getattr(self, name)
-            if (not isinstance(value, (int, float)) or not math.isfinite(value)
-                    or not 0.0 < value <= high):
-                raise ConfigError(f'{name} must be in (0, {high}] ({unit}), got {value!r}')
+        validate_fields(self, ConfigError)
 
     @classmethod
     def from_three_mass(cls, params: ThreeMassParams) -> 'LipmParams':

@@ -20,7 +20,10 @@ import numpy as np
 from scipy.linalg import lapack
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.leg_ik import IK_CLIPPED, IK_REACHABLE, LEFT, LegIkSolution, RIGHT, validated_pose
+from biped_mpc.leg_ik import IK_CLIPPED, IK_REACHABLE, LegIkSolution
+from biped_mpc.validation import check_integer, validated_pose
+from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.sides import SIDES
 
 try:
     import pinocchio as pin
@@ -40,21 +43,16 @@ class NumericIkParams:
     :param max_step: largest joint change of one iteration (rad), > 0.
     """
 
-    max_iterations: int = 50
-    tolerance: float = 1e-10
-    damping: float = 1e-8
-    max_step: float = 0.5
+    max_iterations: int = parameter(50, 'Gauss-Newton iterations per leg and solve', low=1)
+    tolerance: float = parameter(1e-10, 'norm of the 6D pose error of a met target (m, rad)',
+                                 low=0.0, low_open=True)
+    damping: float = parameter(1e-8, 'Levenberg damping lambda (m^2)', low=0.0)
+    max_step: float = parameter(0.5, 'largest joint change of one iteration (rad)', low=0.0,
+                                low_open=True)
 
     def __post_init__(self):
-        if not (isinstance(self.max_iterations, int) and self.max_iterations >= 1):
-            raise ConfigError('NumericIkParams.max_iterations = %r must be an int >= 1'
-                              % (self.max_iterations,))
-        for name, ok in (('tolerance', self.tolerance > 0.0), ('damping', self.damping >= 0.0),
-                         ('max_step', self.max_step > 0.0)):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and ok):
-                raise ConfigError('NumericIkParams.%s = %r is out of range (tolerance > 0, '
-                                  'damping >= 0, max_step > 0)' % (name, value))
+        validate_fields(self, ConfigError)
+        check_integer('NumericIkParams.max_iterations', self.max_iterations, 1)
 
 
 class _LegModel:
@@ -159,7 +157,7 @@ class PinocchioLegIk:
         pelvis = pin.SE3(r, p)
         q = np.empty(12)
         status, iterations = [], []
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             target = pelvis.actInv(pin.SE3(targets[side][1], targets[side][0]))
             q_leg, leg_status, n = self._solve_leg(self._legs[side], target,
                                                    start[6 * side:6 * side + 6])
@@ -209,7 +207,7 @@ class PinocchioLegIk:
         p, r = validated_pose('pelvis', pelvis_position, pelvis_rotation)
         pelvis = pin.SE3(r, p)
         out = []
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             placement = pelvis * self._legs[side].placement(q[6 * side:6 * side + 6])
             out.extend([placement.translation.copy(), placement.rotation.copy()])
         return tuple(out)

@@ -1,15 +1,4 @@
-"""Solvers of the MPC's dense quadratic program behind one small interface.
-
-Every backend solves
-
-    minimise   1/2 z' H z + f' z
-    subject to lower <= A z <= upper              (rows; +-inf allowed)
-               variable_lower <= z[:nb] <= variable_upper   (first nb variables only)
-
-where H, A and the variable bounds are fixed when the backend is built and f, lower and upper
-change every call. Backends keep their own warm start between calls. A failed or infeasible
-solve is a status, never an exception. The solve time covers the solver call only and is
-measured with the clock given at construction (time.perf_counter by default).
+"""The QP solvers of the MPC behind the interface of biped_mpc.qp_backend.
 
 Backends (BACKENDS): 'daqp' (daqp.Model, dual active set, warm-started; the default),
 'quadprog' (Goldfarb-Idnani, exact reference, cold), 'casadi_qpoases' (CasADi conic with
@@ -17,18 +6,15 @@ qpOASES), 'casadi_osqp' and 'osqp' (ADMM, warm-started, approximate), 'casadi_da
 conic with DAQP, cold), 'unconstrained' (ignores every constraint: the unconstrained optimum
 -H^-1 f, a lower bound of the solve time and the closed form of tests).
 """
-import abc
 import contextlib
-from dataclasses import dataclass
-import enum
-import os
-import sys
 import time
 from typing import Callable
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, SolverUnavailableError
+from biped_mpc.errors import ConfigError
+from biped_mpc.qp_backend import (c_stdout_silenced, import_solver, QpBackend, QpSolution,
+                                  QpStatus)
 
 # Infinite bounds go to DAQP as +-1e9, far outside any bound this MPC produces: given +-inf,
 # its warm-started solves returned infeasible points as optimal (33 of 440 cycles of the
@@ -40,113 +26,6 @@ _DAQP_ITERATION_LIMIT = -4
 # A DAQP solution reported optimal is checked against the rows; beyond this violation (m) it is
 # solved again from a cold start, and reported INACCURATE if that fails too.
 _FEASIBILITY_TOLERANCE = 1e-6
-
-
-class QpStatus(enum.IntEnum):
-    """Outcome of one QP solve."""
-
-    OPTIMAL = 0
-    INFEASIBLE = 1
-    ITERATION_LIMIT = 2
-    INACCURATE = 3
-    FAILED = 4
-
-
-@dataclass(frozen=True)
-class QpSolution:
-    """Result of one QP solve.
-
-    :param x: the solution (n,); zeros unless status is OPTIMAL
-    :param status: the outcome
-    :param iterations: solver iterations (-1 when the solver does not report them)
-    :param solve_time: time spent in the solver call (s), a diagnostic
-    """
-
-    x: np.ndarray
-    status: QpStatus
-    iterations: int
-    solve_time: float
-
-
-class QpBackend(abc.ABC):
-    """A QP solver with fixed H, A and variable bounds, and per-call f and row bounds.
-
-    :param hessian: H, symmetric positive definite, shape (n, n)
-    :param constraints: A, shape (m, n), m >= 0
-    :param variable_lower: lower bounds of the first nb variables, shape (nb,)
-    :param variable_upper: upper bounds of the first nb variables, shape (nb,)
-    :param clock: returns seconds; brackets the solver call to measure the solve time
-    :raises ConfigError: if the shapes disagree or H is not positive definite
-    """
-
-    name = 'abstract'
-    exact = True
-
-    def __init__(self, hessian: np.ndarray, constraints: np.ndarray,
-                 variable_lower: np.ndarray, variable_upper: np.ndarray,
-                 clock: Callable[[], float] = time.perf_counter) -> None:
-        hessian = np.ascontiguousarray(hessian, dtype=float)
-        constraints = np.ascontiguousarray(constraints, dtype=float)
-        n = hessian.shape[0]
-        if hessian.shape != (n, n) or not np.allclose(hessian, hessian.T, rtol=1e-10,
-                                                       atol=1e-12 * np.abs(hessian).max()):
-            raise ConfigError(f'hessian must be a symmetric square matrix, got {hessian.shape}')
-        if constraints.ndim != 2 or constraints.shape[1] != n:
-            raise ConfigError(f'constraints must have {n} columns, got {constraints.shape}')
-        self.variable_lower = np.asarray(variable_lower, dtype=float).reshape(-1)
-        self.variable_upper = np.asarray(variable_upper, dtype=float).reshape(-1)
-        if self.variable_lower.shape != self.variable_upper.shape or self.variable_lower.size > n:
-            raise ConfigError(f'variable bounds must have the same length, at most {n}, got '
-                              f'{self.variable_lower.size} and {self.variable_upper.size}')
-        try:
-            self._cholesky = np.linalg.cholesky(hessian)
-        except np.linalg.LinAlgError as error:
-            raise ConfigError('hessian must be positive definite') from error
-        self.hessian = hessian
-        self.constraints = constraints
-        self.n_variables = n
-        self.n_rows = constraints.shape[0]
-        self.n_bounded = self.variable_lower.size
-        self._clock = clock
-        self._setup()
-
-    def _setup(self) -> None:
-        """Build solver workspaces once (subclasses)."""
-
-    def reset(self) -> None:
-        """Forget the warm start (after a failure or a discontinuity)."""
-        self._setup()
-
-    @abc.abstractmethod
-    def solve(self, linear: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> QpSolution:
-        """Solve with the linear cost term f and the row bounds of this call.
-
-        :param linear: f, shape (n,)
-        :param lower: row lower bounds, shape (m,), -inf allowed
-        :param upper: row upper bounds, shape (m,), +inf allowed
-        :return: the solution and its status
-        """
-
-    def _failure(self, status: QpStatus, iterations: int, solve_time: float) -> QpSolution:
-        return QpSolution(np.zeros(self.n_variables), status, iterations, solve_time)
-
-    def violation(self, x: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
-        """Largest violation of the rows and variable bounds by x (0 if feasible).
-
-        :param x: a candidate solution (n,)
-        :param lower: row lower bounds (m,)
-        :param upper: row upper bounds (m,)
-        :return: max(0, lower - A x, A x - upper, bound violations)
-        """
-        worst = 0.0
-        if self.n_rows:
-            rows = self.constraints @ x
-            worst = max(np.maximum(lower - rows, rows - upper).max(), 0.0)
-        if self.n_bounded:
-            bounded = x[:self.n_bounded]
-            worst = max(worst, np.maximum(self.variable_lower - bounded,
-                                          bounded - self.variable_upper).max())
-        return float(worst)
 
 
 class UnconstrainedBackend(QpBackend):
@@ -169,7 +48,7 @@ class DaqpBackend(QpBackend):
     name = 'daqp'
 
     def _setup(self):
-        daqp = _import('daqp', 'daqp')
+        daqp = import_solver('daqp', 'daqp')
         self._negative_inverse = -np.linalg.inv(self.hessian)
         if self.n_bounded + self.n_rows == 0:
             return
@@ -228,7 +107,7 @@ class QuadprogBackend(QpBackend):
     name = 'quadprog'
 
     def _setup(self):
-        self._quadprog = _import('quadprog', 'quadprog')
+        self._quadprog = import_solver('quadprog', 'quadprog')
         self._r_inverse = np.linalg.inv(self._cholesky.T)
         bounded = np.eye(self.n_variables)[:self.n_bounded]
         self._all_rows = np.vstack([bounded, self.constraints])
@@ -269,7 +148,7 @@ class OsqpBackend(QpBackend):
     exact = False
 
     def _setup(self):
-        osqp = _import('osqp', 'osqp')
+        osqp = import_solver('osqp', 'osqp')
         from scipy import sparse
 
         self._osqp = osqp
@@ -288,7 +167,7 @@ class OsqpBackend(QpBackend):
         start = self._clock()
         self._solver.update(q=linear, l=np.concatenate([self.variable_lower, lower]),
                             u=np.concatenate([self.variable_upper, upper]))
-        with _c_stdout_silenced():
+        with c_stdout_silenced():
             result = self._solver.solve(raise_error=False)
         elapsed = self._clock() - start
         status = result.info.status_val
@@ -316,7 +195,7 @@ class CasadiBackend(QpBackend):
     prints_to_stdout = False
 
     def _setup(self):
-        casadi = _import('casadi', 'casadi')
+        casadi = import_solver('casadi', 'casadi')
         options = {'error_on_fail': False}
         options.update(self._plugin_options())
         sparsity = {'h': casadi.Sparsity.dense(self.n_variables, self.n_variables),
@@ -337,7 +216,7 @@ class CasadiBackend(QpBackend):
 
     def solve(self, linear, lower, upper):
         start = self._clock()
-        with _c_stdout_silenced() if self.prints_to_stdout else contextlib.nullcontext():
+        with c_stdout_silenced() if self.prints_to_stdout else contextlib.nullcontext():
             result = self._solver(h=self._h, g=linear, a=self._a, lba=lower, uba=upper,
                                   lbx=self._lbx, ubx=self._ubx, x0=self._x0,
                                   lam_a0=self._lam_a0, lam_x0=self._lam_x0)
@@ -417,37 +296,3 @@ def make_backend(name: str, hessian: np.ndarray, constraints: np.ndarray,
     if name not in _BACKEND_CLASSES:
         raise ConfigError(f'qp backend must be one of {BACKENDS}, got {name!r}')
     return _BACKEND_CLASSES[name](hessian, constraints, variable_lower, variable_upper, clock)
-
-
-@contextlib.contextmanager
-def _c_stdout_silenced():
-    """Discard what the solver writes to standard output meanwhile.
-
-    OSQP prints "Polishing not needed - no active set detected at optimal point" on every
-    solve without an active constraint, whatever its verbose setting (osqp/osqp issue #785),
-    which at 50 Hz buries a node's log. The osqp package writes it through Python's
-    sys.stdout, CasADi's plugin to file descriptor 1: both are silenced. Output of other
-    threads to standard output during the solve is lost too, a price only the OSQP backends
-    pay.
-    """
-    sys.stdout.flush()
-    saved = os.dup(1)
-    try:
-        with open(os.devnull, 'w') as devnull:
-            os.dup2(devnull.fileno(), 1)
-            with contextlib.redirect_stdout(devnull):
-                yield
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-
-
-def _import(module: str, package: str):
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError as error:
-        raise SolverUnavailableError(
-            f'the {module!r} QP backend needs the Python package {package!r}: '
-            f'pip install {package}') from error

@@ -1,10 +1,12 @@
 """Turn the planner's reference window into the MPC's per-plane output references and bounds."""
+from dataclasses import dataclass
+
 import numpy as np
 
 from biped_mpc.errors import InputError
 from biped_mpc.linear_model import (
     N_OUTPUTS, N_PLANES, OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG, OUTPUT_ZMP)
-from biped_mpc.linear_mpc import LEG_OUTPUTS, LEG_OUTPUTS_ABSOLUTE, LEG_OUTPUTS_TORSO_RELATIVE
+from biped_mpc.mpc_params import LEG_OUTPUTS, LEG_OUTPUTS_ABSOLUTE, LEG_OUTPUTS_TORSO_RELATIVE
 
 _REQUIRED = ('zmp', 'left_mass', 'right_mass', 'hip', 'zmp_min', 'zmp_max', 'left_landing_min',
              'left_landing_max', 'right_landing_min', 'right_landing_max')
@@ -27,7 +29,7 @@ def outputs_from_window(window, leg_outputs: str = LEG_OUTPUTS_ABSOLUTE) -> tupl
       design, so the landing box does not apply there. Every other leg bound is +-inf. A swing
       still in progress at the end of the window gets its bound in a later cycle.
 
-    With leg_outputs 'torso_relative' (biped_mpc.linear_mpc.MpcParams.leg_outputs) the leg
+    With leg_outputs 'torso_relative' (biped_mpc.mpc_params.MpcParams.leg_outputs) the leg
     outputs are the leg masses minus half the hip: their references are half the planned feet
     and their landing bounds half the landing boxes.
 
@@ -81,3 +83,55 @@ def outputs_from_window(window, leg_outputs: str = LEG_OUTPUTS_ABSOLUTE) -> tupl
     if not (y_min <= y_max).all():
         raise InputError('the window has a lower bound above its upper bound')
     return y_ref, y_min, y_max
+
+
+@dataclass(frozen=True)
+class CycleReferences:
+    """What one control cycle takes from a reference window sampled at t, t + Ts, ...
+
+    :param y_ref: (2, Np, 3) output references of samples 1 .. Np (m)
+    :param y_min: (2, Np, 3) lower output bounds of samples 1 .. Np (m)
+    :param y_max: (2, Np, 3) upper output bounds of samples 1 .. Np (m)
+    :param feet_next: (2, 4) left and right foot x, y, z (m) and yaw (rad) of sample 1
+    :param support_now: support label (biped_planner.sides SUPPORT_*) of sample 0
+    :param support_next: support label of sample 1
+    """
+
+    y_ref: np.ndarray
+    y_min: np.ndarray
+    y_max: np.ndarray
+    feet_next: np.ndarray
+    support_now: int
+    support_next: int
+
+
+def cycle_references(window, leg_outputs: str, n_predict: int) -> CycleReferences:
+    """The MPC's references of samples 1 .. Np, and the support, feet and yaws of samples 0, 1.
+
+    A window shorter than Np + 1 samples repeats its last sample.
+
+    :param window: a reference window (duck typed ReferenceWindow) sampled at t, t + Ts, ...
+    :param leg_outputs: 'absolute' or 'torso_relative'
+    :param n_predict: the MPC's prediction horizon Np
+    :return: the references of the cycle
+    :raises InputError: for a malformed window (outputs_from_window's checks, fewer than 2
+        samples, feet or yaws of the wrong shape, non-finite feet)
+    """
+    y_ref, y_min, y_max = outputs_from_window(window, leg_outputs)
+    n = y_ref.shape[1]
+    index = np.minimum(np.arange(1, n_predict + 1), n - 1)
+    support = np.asarray(window.support)
+    left_foot = np.asarray(window.left_foot, dtype=float)
+    right_foot = np.asarray(window.right_foot, dtype=float)
+    left_yaw = np.asarray(window.left_yaw, dtype=float)
+    right_yaw = np.asarray(window.right_yaw, dtype=float)
+    if n < 2 or support.shape[0] != n or left_foot.shape != (n, 3) \
+            or right_foot.shape != (n, 3) or left_yaw.shape != (n,) \
+            or right_yaw.shape != (n,):
+        raise InputError('the reference window needs at least 2 samples of support, feet '
+                         'and yaws')
+    feet_next = np.array([[*left_foot[1], left_yaw[1]], [*right_foot[1], right_yaw[1]]])
+    if not np.all(np.isfinite(feet_next)):
+        raise InputError('the reference window has non-finite feet')
+    return CycleReferences(y_ref[:, index], y_min[:, index], y_max[:, index], feet_next,
+                           int(support[0]), int(support[1]))

@@ -5,25 +5,17 @@ robots shipped here); the simulator builds its URDF from the same leg geometry, 
 node loads the file named by its robot_description_file parameter.
 """
 from dataclasses import dataclass
-import math
 from pathlib import Path
 from typing import Optional
 
-import numpy as np
 import yaml
 
 from biped_mpc.errors import ConfigError
 from biped_mpc.three_mass_model import ThreeMassParams
+from biped_mpc.validation import check_positive, number_tuple
 
 ROBOTS_DIR = Path(__file__).resolve().parent / 'robots'
 COMAN_LIKE_MODEL_FILE = ROBOTS_DIR / 'coman_like.yaml'
-
-
-def _vector(name: str, value, size: int) -> tuple:
-    array = np.asarray(value, dtype=float)
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise ConfigError('%s = %r must be %d finite numbers' % (name, value, size))
-    return tuple(float(v) for v in array)
 
 
 @dataclass(frozen=True)
@@ -49,15 +41,11 @@ class LegGeometry:
     joint_upper: tuple
 
     def __post_init__(self):
-        object.__setattr__(self, 'hip_offset', _vector('hip_offset', self.hip_offset, 3))
-        object.__setattr__(self, 'ankle_to_sole',
-                           _vector('ankle_to_sole', self.ankle_to_sole, 3))
-        object.__setattr__(self, 'joint_lower', _vector('joint_lower', self.joint_lower, 12))
-        object.__setattr__(self, 'joint_upper', _vector('joint_upper', self.joint_upper, 12))
-        for name in ('thigh_length', 'shank_length'):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
-                raise ConfigError('%s = %r m must be finite and > 0' % (name, value))
+        for name, size in (('hip_offset', 3), ('ankle_to_sole', 3), ('joint_lower', 12),
+                           ('joint_upper', 12)):
+            object.__setattr__(self, name, number_tuple(name, getattr(self, name), size))
+        check_positive('thigh_length', self.thigh_length)
+        check_positive('shank_length', self.shank_length)
         if not all(lo < hi for lo, hi in zip(self.joint_lower, self.joint_upper)):
             raise ConfigError('joint_lower %r must be below joint_upper %r'
                               % (self.joint_lower, self.joint_upper))
@@ -97,10 +85,8 @@ class RobotModel:
             raise ConfigError('sole_frames = %r must be (left, right)' % (self.sole_frames,))
         if not isinstance(self.masses, ThreeMassParams):
             raise ConfigError('masses must be ThreeMassParams, got %r' % (self.masses,))
-        if not (isinstance(self.pelvis_height, (int, float)) and math.isfinite(self.pelvis_height)
-                and 0.0 < self.pelvis_height <= 5.0):
-            raise ConfigError('pelvis_height = %r m must be in (0, 5]' % (self.pelvis_height,))
-        offset = _vector('com_offset', self.com_offset, 2)
+        check_positive('pelvis_height', self.pelvis_height, 5.0)
+        offset = number_tuple('com_offset', self.com_offset, 2)
         if any(abs(v) > 0.5 for v in offset):
             raise ConfigError('com_offset = %r m must be within 0.5 m' % (self.com_offset,))
         object.__setattr__(self, 'com_offset', offset)

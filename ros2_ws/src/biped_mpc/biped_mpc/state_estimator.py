@@ -1,15 +1,15 @@
 """Kalman filter of the discrete three-mass (or LIPM) model: states from noisy outputs."""
 from dataclasses import dataclass
-import math
 from typing import Optional
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.errors import ConfigError
 from biped_mpc.linear_model import (
     DiscreteLinearModel, N_INPUTS, N_MASSES, N_OUTPUTS, N_PLANES, N_STATES, state_index,
     VELOCITY)
-from biped_mpc.validation import finite_array
+from biped_mpc.validation import finite_array, number_tuple
+from biped_planner.parameter_fields import parameter, validate_fields
 
 
 @dataclass(frozen=True)
@@ -28,32 +28,25 @@ class EstimatorParams:
         equation, computed once) instead of propagating the covariance every cycle
     """
 
-    measurement_std: tuple = (0.05 / 3.0, 0.05 / 3.0, 0.05 / 3.0)
-    jerk_std: float = 0.5
-    acceleration_std: tuple = (0.05, 1.0, 0.05)
-    initial_std: float = 0.01
-    steady_state: bool = True
+    measurement_std: tuple = parameter(
+        (0.05 / 3.0, 0.05 / 3.0, 0.05 / 3.0),
+        'standard deviation of the measured left leg, right leg and ZMP (m)', low=0.0, high=10.0,
+        low_open=True)
+    jerk_std: float = parameter(0.5, 'standard deviation of the applied jerks (m/s^3)', low=0.0,
+                                high=1e4)
+    acceleration_std: tuple = parameter(
+        (0.05, 1.0, 0.05), 'standard deviation of an unmodelled acceleration of the left leg, '
+        'torso and right leg (m/s^2)', low=0.0, high=1e3)
+    initial_std: float = parameter(0.01, 'standard deviation of the initial estimate (SI)',
+                                   low=0.0, high=1e3, low_open=True)
+    steady_state: bool = parameter(True, 'use the constant steady-state Kalman gain')
 
     def __post_init__(self) -> None:
-        std = np.asarray(self.measurement_std, dtype=float)
-        if std.shape != (N_OUTPUTS,) or not np.all(np.isfinite(std)) or np.any(std <= 0.0) \
-                or np.any(std > 10.0):
-            raise ConfigError(f'measurement_std must be {N_OUTPUTS} numbers in (0, 10] (m), '
-                              f'got {self.measurement_std!r}')
-        acceleration = np.asarray(self.acceleration_std, dtype=float)
-        if acceleration.shape != (N_MASSES,) or not np.all(np.isfinite(acceleration)) \
-                or np.any(acceleration < 0.0) or np.any(acceleration > 1e3):
-            raise ConfigError(f'acceleration_std must be {N_MASSES} numbers in [0, 1e3] '
-                              f'(m/s^2), got {self.acceleration_std!r}')
-        for name, low_open, high in (('jerk_std', False, 1e4), ('initial_std', True, 1e3)):
-            value = getattr(self, name)
-            ok = isinstance(value, (int, float)) and math.isfinite(value) and value <= high
-            ok = ok and (value > 0.0 if low_open else value >= 0.0)
-            if not ok:
-                bracket = '(' if low_open else '['
-                raise ConfigError(f'{name} must be in {bracket}0, {high}], got {value!r}')
-        if not isinstance(self.steady_state, bool):
-            raise ConfigError(f'steady_state must be a bool, got {self.steady_state!r}')
+        object.__setattr__(self, 'measurement_std',
+                           number_tuple('measurement_std', self.measurement_std, N_OUTPUTS))
+        object.__setattr__(self, 'acceleration_std',
+                           number_tuple('acceleration_std', self.acceleration_std, N_MASSES))
+        validate_fields(self, ConfigError)
 
 
 class StateEstimator:

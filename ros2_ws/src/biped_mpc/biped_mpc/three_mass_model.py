@@ -1,9 +1,9 @@
 """The paper's three-mass model (section "Three-mass Dynamics Model", eq. statespace_3lipm)."""
 from dataclasses import dataclass
-import math
 
 from biped_mpc.errors import ConfigError
 from biped_mpc.linear_model import LinearModel
+from biped_planner.parameter_fields import parameter, validate_fields
 
 
 @dataclass(frozen=True)
@@ -24,26 +24,23 @@ class ThreeMassParams:
     :param gravity: gravitational acceleration (m/s^2), (0, 100]
     """
 
-    left_leg_mass: float = 15.0
-    torso_mass: float = 50.0
-    right_leg_mass: float = 15.0
-    left_leg_height: float = 0.5
-    torso_height: float = 1.2
-    right_leg_height: float = 0.5
-    gravity: float = 9.81
+    left_leg_mass: float = parameter(15.0, 'mass of the left leg (kg)', low=0.0, high=1000.0,
+                                     low_open=True)
+    torso_mass: float = parameter(50.0, 'mass of the torso (kg)', low=0.0, high=1000.0,
+                                  low_open=True)
+    right_leg_mass: float = parameter(15.0, 'mass of the right leg (kg)', low=0.0, high=1000.0,
+                                      low_open=True)
+    left_leg_height: float = parameter(0.5, 'height of the left leg mass (m)', low=0.0,
+                                       high=10.0, low_open=True)
+    torso_height: float = parameter(1.2, 'height of the torso mass (m)', low=0.0, high=10.0,
+                                    low_open=True)
+    right_leg_height: float = parameter(0.5, 'height of the right leg mass (m)', low=0.0,
+                                        high=10.0, low_open=True)
+    gravity: float = parameter(9.81, 'gravitational acceleration (m/s^2)', low=0.0, high=100.0,
+                               low_open=True)
 
     def __post_init__(self) -> None:
-        for name in ('left_leg_mass', 'torso_mass', 'right_leg_mass'):
-            _check_positive(name, getattr(self, name), 1000.0, 'kg')
-        for name in ('left_leg_height', 'torso_height', 'right_leg_height'):
-            _check_positive(name, getattr(self, name), 10.0, 'm')
-        _check_positive('gravity', self.gravity, 100.0, 'm/s^2')
-
-
-def _check_positive(name: str, value: float, high: float, unit: str) -> None:
-    if (not isinstance(value, (int, float)) or not math.isfinite(value)
-            or not 0.0 < value <= high):
-        raise ConfigError(f'{name} must be in (0, {high}] ({unit}), got {value!r}')
+        validate_fields(self, ConfigError)
 
 
 def three_mass_model(params: ThreeMassParams = ThreeMassParams()) -> LinearModel:

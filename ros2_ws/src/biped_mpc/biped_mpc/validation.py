@@ -1,7 +1,14 @@
-"""Input checks shared by the biped_mpc modules."""
+"""Checks shared by the biped_mpc modules: arrays at the inputs, numbers in the parameters.
+
+Parameter dataclasses declare their ranges with biped_planner.parameter_fields.parameter() and
+call validate_fields; what a field spec cannot say (a tuple's length, an integer, a bound that
+depends on another field) is checked with the helpers here.
+"""
+import math
+
 import numpy as np
 
-from biped_mpc.errors import InputError
+from biped_mpc.errors import ConfigError, InputError
 
 
 def finite_array(name: str, value, shape: tuple) -> np.ndarray:
@@ -15,3 +22,62 @@ def finite_array(name: str, value, shape: tuple) -> np.ndarray:
     if not np.isfinite(array).all():
         raise InputError(f'{name} must be finite, got {array.tolist()}')
     return array
+
+
+def finite_vector(name: str, value, size: int, allow_nan: bool = False) -> np.ndarray:
+    """:return: value flattened to a (size,) float array.
+
+    :param allow_nan: NaN entries pass (a measurement that is missing); inf never does
+    :raises InputError: naming the argument, for a wrong size or a non-finite entry
+    """
+    array = np.array(value, dtype=float).reshape(-1) if value is not None else None
+    if array is None or array.shape != (size,):
+        raise InputError(f'{name} must have {size} numbers, got {value!r}')
+    bad = np.isinf(array) if allow_nan else ~np.isfinite(array)
+    if np.any(bad):
+        raise InputError(f'{name} = {array.tolist()} must be finite'
+                         + (' (NaN allowed)' if allow_nan else ''))
+    return array
+
+
+def number_tuple(name: str, value, size: int) -> tuple:
+    """:return: value as a tuple of size finite floats (the ranges are the field spec's).
+
+    :raises ConfigError: naming the parameter, for a wrong length or a non-finite entry
+    """
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        array = None
+    if array is None or array.shape != (size,) or not np.all(np.isfinite(array)):
+        raise ConfigError(f'{name} must be {size} finite numbers, got {value!r}')
+    return tuple(float(v) for v in array)
+
+
+def check_integer(name: str, value, low: int, high: float = math.inf) -> None:
+    """:raises ConfigError: naming the parameter, unless value is an int in [low, high]"""
+    if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+        raise ConfigError(f'{name} must be an integer in [{low}, {high}], got {value!r}')
+
+
+def check_positive(name: str, value, high: float = math.inf) -> None:
+    """:raises ConfigError: naming the parameter, unless value is a finite number in (0, high]"""
+    if (isinstance(value, bool) or not isinstance(value, (int, float))
+            or not math.isfinite(value) or not 0.0 < value <= high):
+        raise ConfigError(f'{name} = {value!r} must be a finite number in (0, {high}]')
+
+
+def validated_pose(name: str, position, rotation) -> tuple:
+    """Return a pose as float arrays (position (3,), rotation (3, 3)).
+
+    :param name: what the pose is, for the error message.
+    :raises InputError: for wrong shapes or NaN/inf.
+    """
+    p = np.asarray(position, dtype=float)
+    r = np.asarray(rotation, dtype=float)
+    if p.shape != (3,) or r.shape != (3, 3):
+        raise InputError('%s: position shape %s and rotation shape %s, expected (3,) and (3, 3)'
+                         % (name, p.shape, r.shape))
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(r))):
+        raise InputError('%s pose has NaN or inf: position %r' % (name, position))
+    return p, r

@@ -1,13 +1,12 @@
-"""Shared fixtures of the biped_mpc tests: the paper's walk from the planner."""
+"""Shared fixtures of the biped_mpc tests: the paper's walk from the planner, the robot model."""
 import pytest
 
 from biped_mpc.lipm_model import LipmParams
+from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
 from biped_mpc.three_mass_model import ThreeMassParams
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
-
-PAPER_MARGIN = (0.005, 0.004)
 
 
 @pytest.fixture(scope='session')
@@ -18,3 +17,16 @@ def paper_reference():
         foot_length=0.1, foot_width=0.08, support_scale=0.9)
     return WalkingReference(straight_footsteps(5, 0.8, 0.2),
                             StepTiming(single_support=0.8, double_support=0.2), params)
+
+
+@pytest.fixture(scope='session')
+def coman_like_model():
+    """The COMAN-like humanoid as the controller sees it (the model file shipped here)."""
+    return load_robot_model(COMAN_LIKE_MODEL_FILE)
+
+
+@pytest.fixture(scope='session')
+def coman_like_urdf():
+    """Path of the COMAN-like URDF, for the Pinocchio IK: the simulator's file (biped_sim
+    builds it from the same leg geometry)."""
+    return str(pytest.importorskip('biped_sim.robot_builder').COMAN_LIKE_URDF)

@@ -11,8 +11,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE, LEFT
-from biped_mpc.leg_ik import RIGHT, yaw_rotation
+from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE
+from biped_planner.rotations import rotation_z as yaw_rotation
+from biped_planner.sides import LEFT, RIGHT
 from biped_sim.robot_description import coman_like
 
 

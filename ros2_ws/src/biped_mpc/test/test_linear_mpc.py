@@ -7,11 +7,13 @@ from scipy.linalg import solve_discrete_are
 
 from biped_mpc.condensed_prediction import move_starts
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.linear_mpc import LEG_OUTPUTS, LinearMpc, MpcParams, tracked_outputs
-from biped_mpc.model_walk import run_walk, WalkSetup
-from biped_mpc.qp_backends import BACKENDS, QpStatus
+from biped_mpc.linear_mpc import LinearMpc, tracked_outputs
+from biped_mpc.mpc_params import LEG_OUTPUTS, MpcParams
+from biped_mpc.qp_backend import QpStatus
+from biped_mpc.qp_backends import BACKENDS
 from biped_mpc.reference_adapter import outputs_from_window
 from biped_mpc.three_mass_model import three_mass_model
+from biped_sim.model_walk import run_walk, WalkSetup
 
 MODEL = three_mass_model()
 EXACT_BACKENDS = ('daqp', 'casadi_qpoases', 'casadi_daqp')

@@ -7,8 +7,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE, yaw_rotation
+from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE
 from biped_mpc.pinocchio_ik import NumericIkParams, PinocchioLegIk
+from biped_planner.rotations import rotation_z as yaw_rotation
 from biped_sim.robot_description import coman_like
 
 

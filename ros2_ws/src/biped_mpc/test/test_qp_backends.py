@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from biped_mpc.errors import ConfigError
-from biped_mpc.qp_backends import BACKENDS, make_backend, QpStatus
+from biped_mpc.qp_backend import QpStatus
+from biped_mpc.qp_backends import BACKENDS, make_backend
 
 CONSTRAINED = [name for name in BACKENDS if name != 'unconstrained']
 # min 1/2 |x - c|^2 s.t. x0 + x1 <= 1, x0 - x1 >= -inf, 0 <= x2 (variable bound)

@@ -3,11 +3,11 @@ import numpy as np
 import pytest
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.linear_mpc import MpcParams
-from biped_mpc.model_plant import PlantParams
-from biped_mpc.model_walk import run_walk, WalkSetup
+from biped_mpc.mpc_params import MpcParams
 from biped_mpc.state_estimator import EstimatorParams, StateEstimator
 from biped_mpc.three_mass_model import three_mass_model
+from biped_sim.model_plant import PlantParams
+from biped_sim.model_walk import run_walk, WalkSetup
 
 MODEL = three_mass_model()
 DISCRETE = MODEL.discretize(0.02)

@@ -6,21 +6,26 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from biped_mpc.controller_io import (
+    ControllerFeedback, STATUS_IK_CLIPPED, STATUS_MPC_ERROR, STATUS_MPC_FALLBACK, STATUS_OK,
+    STATUS_REFERENCE_ERROR)
+from biped_mpc.controller_params import WalkingControllerParams
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.leg_ik import AnalyticLegIk, yaw_rotation
+from biped_mpc.ik_targets import feet_targets_from_masses
+from biped_mpc.leg_ik import AnalyticLegIk
 from biped_mpc.linear_model import LEFT_LEG, POSITION, RIGHT_LEG, state_index, TORSO
-from biped_mpc.qp_backends import DaqpBackend, QpSolution, QpStatus
-from biped_mpc.walking_controller import (
-    COMAN_LIKE_COM_OFFSET, ControllerFeedback, feet_targets_from_masses, quaternion_matrix,
-    STATUS_IK_CLIPPED, STATUS_MPC_ERROR, STATUS_MPC_FALLBACK, STATUS_OK,
-    STATUS_REFERENCE_ERROR, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT, WalkingController,
-    WalkingControllerParams)
+from biped_mpc.qp_backend import QpSolution, QpStatus
+from biped_mpc.qp_backends import DaqpBackend
+from biped_mpc.stance_feet import on_support
+from biped_mpc.walking_controller import WalkingController
 from biped_planner.footsteps import straight_footsteps
+from biped_planner.rotations import quaternion_to_matrix, rotation_z
+from biped_planner.sides import LEFT, RIGHT, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
-from biped_sim.robot_description import coman_like
 
 PELVIS_HEIGHT = 0.54
+COM_OFFSET = (0.0137, 0.0)  # m, the COMAN-like model's (robots/coman_like.yaml)
 HALF_WIDTH = 0.07
 N_SAMPLES = 81
 DT = 0.02
@@ -28,8 +33,8 @@ T_START = 2.0  # the walk starts here: windows from t <= 0.3 s see only the stan
 
 
 @pytest.fixture(scope='module')
-def robot():
-    return coman_like()
+def robot(coman_like_model):
+    return coman_like_model
 
 
 @pytest.fixture(scope='module')
@@ -53,7 +58,7 @@ def controller(robot):
 
 def standing_pelvis():
     """Pelvis of a robot standing with its model hip (pelvis + COM offset) at the origin."""
-    return np.array([-COMAN_LIKE_COM_OFFSET[0], -COMAN_LIKE_COM_OFFSET[1], PELVIS_HEIGHT])
+    return np.array([-COM_OFFSET[0], -COM_OFFSET[1], PELVIS_HEIGHT])
 
 
 def standing_feedback(ik, pelvis=None, with_position=True):
@@ -118,7 +123,7 @@ def test_masses_map_to_pelvis_and_feet_targets(controller, reference, ik, suppor
     torso = state[:, state_index(TORSO, POSITION)]
     np.testing.assert_allclose(out.hip_target, torso)
     # Pelvis = torso mass minus the COM offset (feet headings 0), upright at pelvis height.
-    np.testing.assert_allclose(out.pelvis_target[:2], torso - np.array(COMAN_LIKE_COM_OFFSET),
+    np.testing.assert_allclose(out.pelvis_target[:2], torso - np.array(COM_OFFSET),
                                atol=1e-12)
     assert out.pelvis_target[2] == pytest.approx(PELVIS_HEIGHT)
     swing, stance = ((out.right_foot_target, out.left_foot_target) if support == SUPPORT_LEFT
@@ -174,7 +179,8 @@ def test_imu_kinematics_finds_the_pelvis_from_the_stance_feet(robot, reference, 
 @pytest.mark.parametrize('overrides', [dict(model='lipm'), dict(ik='pinocchio'),
                                        dict(feedback='estimator', feedback_gain=0.3),
                                        dict(tilt_gain=0.5)])
-def test_variants_keep_the_standing_pose(robot, reference, ik, overrides):
+def test_variants_keep_the_standing_pose(robot, reference, ik, overrides, coman_like_urdf):
+    robot = dataclasses.replace(robot, urdf_path=coman_like_urdf)
     controller = WalkingController(WalkingControllerParams(robot=robot, **overrides))
     feedback = standing_feedback(ik)
     controller.reset(0.0, feedback)
@@ -246,7 +252,8 @@ def test_malformed_window_is_a_status_not_an_exception(controller, reference, ik
 
 def test_unreachable_target_is_clipped(robot, reference, ik):
     """A pelvis 0.9 m above the soles is beyond the 0.5 m legs: clipped, not an error."""
-    controller = WalkingController(WalkingControllerParams(robot=robot, pelvis_height=0.9))
+    controller = WalkingController(WalkingControllerParams(
+        robot=dataclasses.replace(robot, pelvis_height=0.9)))
     feedback = standing_feedback(ik)
     controller.reset(0.0, feedback)
     out = controller.step(0.0, reference.sample(0.0, N_SAMPLES, DT), feedback)
@@ -285,10 +292,8 @@ def test_short_window_repeats_its_last_sample(controller, reference, ik):
 @pytest.mark.parametrize('overrides', [
     dict(robot=object()), dict(model='pendulum'), dict(feedback='kalman'),
     dict(pelvis_source='gps'), dict(ik='numeric'), dict(feedback_gain=-0.1),
-    dict(feedback_gain=1.5), dict(feedback_gain=math.nan), dict(pelvis_height=0.0),
-    dict(pelvis_height=math.inf), dict(com_offset=(1.0, 0.0)), dict(com_offset=(math.nan, 0.0)),
-    dict(com_offset=(0.0,)), dict(pelvis_velocity_gain=-0.01), dict(pelvis_velocity_gain=2.0),
-    dict(tilt_gain=-1.0), dict(tilt_gain=6.0), dict(masses=(1.0, 2.0, 3.0)), dict(mpc=None),
+    dict(feedback_gain=1.5), dict(feedback_gain=math.nan), dict(pelvis_velocity_gain=-0.01),
+    dict(pelvis_velocity_gain=2.0), dict(tilt_gain=-1.0), dict(tilt_gain=6.0), dict(mpc=None),
     dict(estimator={}), dict(stance_leg_projection=1)])
 def test_bad_parameters_are_rejected(robot, overrides):
     kwargs = dict(robot=robot)
@@ -297,11 +302,23 @@ def test_bad_parameters_are_rejected(robot, overrides):
         WalkingControllerParams(**kwargs)
 
 
-def test_analytic_ik_needs_a_leg_geometry(robot):
-    without = dataclasses.replace(robot, leg_geometry=None)
+@pytest.mark.parametrize('overrides', [
+    dict(pelvis_height=0.0), dict(pelvis_height=math.inf), dict(com_offset=(1.0, 0.0)),
+    dict(com_offset=(math.nan, 0.0)), dict(com_offset=(0.0,)), dict(masses=(1.0, 2.0, 3.0))])
+def test_bad_robot_models_are_rejected(robot, overrides):
+    """The robot's masses, pelvis height and COM offset come from its model and are checked
+    there."""
+    with pytest.raises(ConfigError):
+        WalkingControllerParams(robot=dataclasses.replace(robot, **overrides))
+
+
+def test_analytic_ik_needs_a_leg_geometry_and_pinocchio_a_urdf(robot, coman_like_urdf):
+    without = dataclasses.replace(robot, leg_geometry=None, urdf_path=coman_like_urdf)
     with pytest.raises(ConfigError):
         WalkingControllerParams(robot=without)
     WalkingControllerParams(robot=without, ik='pinocchio')
+    with pytest.raises(ConfigError, match='urdf_path'):
+        WalkingControllerParams(robot=dataclasses.replace(robot, urdf_path=''), ik='pinocchio')
 
 
 def test_controller_needs_its_parameters():
@@ -330,7 +347,7 @@ def test_feedback_normalises_the_quaternion_and_allows_a_missing_zmp():
     feedback = ControllerFeedback(**dict(GOOD, pelvis_orientation=[0.0, 0.0, 0.0, 2.0],
                                          zmp=[np.nan, np.nan]))
     np.testing.assert_allclose(feedback.pelvis_orientation, [0.0, 0.0, 0.0, 1.0])
-    np.testing.assert_allclose(quaternion_matrix(feedback.pelvis_orientation), np.eye(3))
+    np.testing.assert_allclose(quaternion_to_matrix(feedback.pelvis_orientation), np.eye(3))
 
 
 def _readings():
@@ -374,11 +391,10 @@ def test_step_rejects_bad_calls(robot, reference, ik):
         controller.step(0.0, window, feedback.leg_joint_positions)
 
 
-def test_support_constants_match_the_planner():
-    from biped_planner import walking_reference
-    assert (SUPPORT_LEFT, SUPPORT_RIGHT, SUPPORT_DOUBLE) == (
-        walking_reference.SUPPORT_LEFT, walking_reference.SUPPORT_RIGHT,
-        walking_reference.SUPPORT_DOUBLE)
+def test_support_labels_put_their_feet_on_the_ground():
+    assert on_support(LEFT, SUPPORT_LEFT) and not on_support(RIGHT, SUPPORT_LEFT)
+    assert on_support(RIGHT, SUPPORT_RIGHT) and not on_support(LEFT, SUPPORT_RIGHT)
+    assert on_support(LEFT, SUPPORT_DOUBLE) and on_support(RIGHT, SUPPORT_DOUBLE)
 
 
 def test_yaw_of_feet_turns_the_pelvis(controller, reference, ik):
@@ -389,5 +405,5 @@ def test_yaw_of_feet_turns_the_pelvis(controller, reference, ik):
                                  right_yaw=np.full(N_SAMPLES, 0.2))
     out = controller.step(0.0, turned, feedback)
     # Both feet are latched (standing): they keep heading 0, the pelvis turns to 0.2.
-    _, left_r, _, _ = ik.forward(out.joint_setpoints, out.pelvis_command, yaw_rotation(0.2))
+    _, left_r, _, _ = ik.forward(out.joint_setpoints, out.pelvis_command, rotation_z(0.2))
     np.testing.assert_allclose(left_r, np.eye(3), atol=1e-9)

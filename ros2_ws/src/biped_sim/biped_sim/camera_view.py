@@ -1,48 +1,36 @@
 """Where a simulator camera looks from, and the image size, for recording videos."""
 
 from dataclasses import dataclass
-import math
 from typing import Optional
 
+from biped_planner.parameter_fields import parameter, validate_fields
+
 from biped_sim.errors import ConfigError
+from biped_sim.validation import number_tuple
 
 
 @dataclass(frozen=True)
 class CameraView:
     """An orbiting camera looking at a target point.
 
-    :param width: image width (pixels), 16..4096.
-    :param height: image height (pixels), 16..4096.
-    :param distance: camera distance from the target (m), > 0.
-    :param yaw: camera azimuth (deg), as the cameraYaw of PyBullet's debug visualiser.
-    :param pitch: camera elevation (deg), negative looks down, in (-90, 90).
     :param target: (3,) point looked at (m); None follows the robot's base.
-    :param fov: vertical field of view (deg), in (0, 180).
     """
 
-    width: int = 320
-    height: int = 240
-    distance: float = 2.0
-    yaw: float = 50.0
-    pitch: float = -20.0
+    width: int = parameter(320, 'image width (pixels)', low=16, high=4096)
+    height: int = parameter(240, 'image height (pixels)', low=16, high=4096)
+    distance: float = parameter(2.0, 'camera distance from the target (m)', low=0.0,
+                                high=100.0, low_open=True)
+    yaw: float = parameter(50.0, "camera azimuth, as the cameraYaw of PyBullet's debug "
+                           'visualiser (deg)', low=-360.0, high=360.0)
+    pitch: float = parameter(-20.0, 'camera elevation, negative looks down (deg)', low=-89.0,
+                             high=89.0)
     target: Optional[tuple] = None
-    fov: float = 60.0
+    fov: float = parameter(60.0, 'vertical field of view (deg), below 180', low=0.0,
+                           high=180.0, low_open=True)
 
     def __post_init__(self):
-        for name in ('width', 'height'):
-            value = getattr(self, name)
-            if not (isinstance(value, int) and 16 <= value <= 4096):
-                raise ConfigError('CameraView.%s = %r must be an int in [16, 4096]'
-                                  % (name, value))
-        if not (math.isfinite(self.distance) and self.distance > 0.0):
-            raise ConfigError('CameraView.distance = %r m must be finite and > 0'
-                              % (self.distance,))
-        if not (math.isfinite(self.yaw) and -90.0 < self.pitch < 90.0):
-            raise ConfigError('CameraView yaw = %r, pitch = %r deg: yaw finite, pitch in '
-                              '(-90, 90)' % (self.yaw, self.pitch))
-        if not 0.0 < self.fov < 180.0:
-            raise ConfigError('CameraView.fov = %r deg must be in (0, 180)' % (self.fov,))
+        validate_fields(self, ConfigError)
+        if self.fov >= 180.0:
+            raise ConfigError('CameraView.fov = %r deg must be below 180' % (self.fov,))
         if self.target is not None:
-            if len(self.target) != 3 or not all(math.isfinite(v) for v in self.target):
-                raise ConfigError('CameraView.target = %r must be 3 finite numbers or None'
-                                  % (self.target,))
+            object.__setattr__(self, 'target', number_tuple('CameraView.target', self.target, 3))

@@ -21,6 +21,8 @@ import math
 
 import numpy as np
 
+from biped_planner.rotations import yaw_of_matrix
+
 from biped_sim.errors import RobotModelError
 
 try:
@@ -28,6 +30,24 @@ try:
 except ImportError as error:  # pragma: no cover - pinocchio is a hard dependency
     raise ImportError('biped_sim.contact_gravity_compensation needs pinocchio: '
                       'pip install pin') from error
+
+
+def left_share(point, left, right) -> float:
+    """The lever rule between two feet: the share of a vertical load at point on the left foot.
+
+    t = clip(((p - s_R) . (s_L - s_R)) / |s_L - s_R|^2, 0, 1), 1/2 when the feet coincide.
+
+    :param point: (2,) where the load acts, in the ground plane (m).
+    :param left: left sole centre, (2,) or (3,) (m); only x and y are used.
+    :param right: right sole centre (m).
+    :return: t in [0, 1]; the right foot carries 1 - t.
+    """
+    ax, ay = left[0] - right[0], left[1] - right[1]
+    length_sq = ax * ax + ay * ay
+    if length_sq < 1e-12:
+        return 0.5
+    t = ((point[0] - right[0]) * ax + (point[1] - right[1]) * ay) / length_sq
+    return min(max(t, 0.0), 1.0)
 
 
 def sole_rectangle_clip(offset_x: float, offset_y: float, yaw: float, half_length: float,
@@ -127,10 +147,7 @@ class ContactGravityCompensation:
         points = np.array([left, right], dtype=float)
         if contacts[0] and contacts[1]:
             ax, ay = left[0] - right[0], left[1] - right[1]
-            length_sq = ax * ax + ay * ay
-            t = 0.5 if length_sq < 1e-12 else ((cx - right[0]) * ax + (cy - right[1]) * ay
-                                               ) / length_sq
-            t = min(max(t, 0.0), 1.0)
+            t = left_share((cx, cy), left, right)
             offset_x = cx - (right[0] + t * ax)
             offset_y = cy - (right[1] + t * ay)
             forces[0], forces[1] = t * self._weight, (1.0 - t) * self._weight
@@ -168,7 +185,7 @@ class ContactGravityCompensation:
                 placement = pin.updateFramePlacement(model, data, frame_id)
                 soles.append(placement.translation.copy())
                 rotation = placement.rotation
-                yaws.append(math.atan2(rotation[1, 0], rotation[0, 0]))
+                yaws.append(yaw_of_matrix(rotation))
             forces, points = self.split_weight(data.com[0], soles, yaws, contacts)
             wrench = np.zeros(6)
             for i, frame_id in enumerate(self._sole_ids):

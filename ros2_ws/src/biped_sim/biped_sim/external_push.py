@@ -1,12 +1,15 @@
-"""An external push on the robot: a constant force applied at a point of a link for a while."""
+"""An external push on the robot: a constant force applied at a point of a link for a while.
+
+The one push type of every simulator backend and of the model plant's closed loop; a backend
+turns its start time and duration into the physics steps it acts on (:meth:`ExternalPush.steps`).
+"""
 
 from dataclasses import dataclass
 import math
 from typing import Optional
 
-import numpy as np
-
 from biped_sim.errors import ConfigError
+from biped_sim.validation import number_tuple
 
 
 @dataclass(frozen=True)
@@ -30,14 +33,23 @@ class ExternalPush:
 
     def __post_init__(self):
         for name in ('force', 'point'):
-            array = np.asarray(getattr(self, name), dtype=float)
-            if array.shape != (3,) or not np.all(np.isfinite(array)):
-                raise ConfigError('ExternalPush.%s = %r must be 3 finite numbers'
-                                  % (name, getattr(self, name)))
-            object.__setattr__(self, name, tuple(float(v) for v in array))
+            object.__setattr__(self, name,
+                               number_tuple('ExternalPush.%s' % name, getattr(self, name), 3))
         if not (math.isfinite(self.duration) and self.duration > 0.0):
             raise ConfigError('ExternalPush.duration = %r s must be finite and > 0'
                               % (self.duration,))
         if self.start_time is not None and not math.isfinite(self.start_time):
             raise ConfigError('ExternalPush.start_time = %r s must be finite or None'
                               % (self.start_time,))
+
+    def steps(self, now: int, time_step: float, time_origin: float = 0.0) -> tuple:
+        """The physics steps the push acts on: [start, end), at least one.
+
+        :param now: the step about to run (the start of a push without start_time).
+        :param time_step: physics step (s).
+        :param time_origin: simulated time of step 0 (s).
+        :return: (start, end) step indices.
+        """
+        start = now if self.start_time is None else int(round((self.start_time - time_origin)
+                                                              / time_step))
+        return start, start + max(1, int(round(self.duration / time_step)))

@@ -12,18 +12,20 @@ import numpy as np
 from biped_sim.errors import ConfigError
 
 FRAME_PATTERN = 'frame_%06d.png'
+FPS_RANGE = (0.1, 100.0)  # frames per second of simulated time
 
 
 class FrameRecorder:
     """Takes a frame whenever simulated time reaches the next multiple of 1 / fps.
 
     :param directory: where the PNG frames go (created; existing frames are replaced)
-    :param fps: frames per second of simulated time, (0, 100]
+    :param fps: frames per second of simulated time, in FPS_RANGE
     """
 
     def __init__(self, directory: Path, fps: float) -> None:
-        if not (isinstance(fps, (int, float)) and math.isfinite(fps) and 0.0 < fps <= 100.0):
-            raise ConfigError(f'FrameRecorder.fps = {fps!r} must be in (0, 100]')
+        if not (isinstance(fps, (int, float)) and math.isfinite(fps)
+                and FPS_RANGE[0] <= fps <= FPS_RANGE[1]):
+            raise ConfigError(f'FrameRecorder.fps = {fps!r} must be in {list(FPS_RANGE)}')
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         for old in self.directory.glob('frame_*.png'):

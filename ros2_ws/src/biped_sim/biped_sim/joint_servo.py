@@ -32,3 +32,36 @@ def step_toward(backend, previous: Optional[np.ndarray], target: np.ndarray, sub
                                 substeps // parts, joint_velocities=velocities,
                                 read_sensors=part == parts)
     return readings
+
+
+class SetpointRamp:
+    """The closed-loop runner's actuator for a SimulatorBackend: one ramped period per output.
+
+    :param backend: the simulator
+    :param substeps: physics steps of a control period
+    :param parts: equal parts of the period with interpolated setpoints (see step_toward)
+    :param feed_velocities: pass the controller's setpoint speeds as feed-forward of the PD
+    """
+
+    def __init__(self, backend, substeps: int, parts: int, feed_velocities: bool) -> None:
+        self._backend = backend
+        self._substeps = substeps
+        self._parts = parts
+        self._feed_velocities = feed_velocities
+        self._last_setpoints = None
+
+    def restart(self) -> None:
+        """Forget the last setpoints (after a reset): the next period starts without a ramp."""
+        self._last_setpoints = None
+
+    def apply(self, output):
+        """Send the output's joint setpoints over one control period; return the readings.
+
+        :param output: the controller's output (joint_setpoints, joint_velocities)
+        """
+        velocities = output.joint_velocities if self._feed_velocities else None
+        target = np.asarray(output.joint_setpoints, dtype=float)
+        readings = step_toward(self._backend, self._last_setpoints, target, self._substeps,
+                               self._parts, velocities)
+        self._last_setpoints = target.copy()
+        return readings

@@ -1,14 +1,21 @@
-"""The model itself as a simulated robot: the paper's MATLAB plant with pushes and noise."""
+"""The model itself as a simulated robot: the paper's MATLAB plant with pushes and noise.
+
+The plant of the model-plant backend (biped_sim.model_plant_backend) and of the paper's
+MATLAB loop (biped_sim.model_walk): the controller's own linear model, integrated exactly.
+"""
 from dataclasses import dataclass
 import math
 from typing import Optional
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.linear_model import (
     LinearModel, N_INPUTS, N_OUTPUTS, N_PLANES, N_STATES, OUTPUT_ZMP)
-from biped_mpc.validation import finite_array
+from biped_planner.parameter_fields import parameter, validate_fields
+
+from biped_sim.errors import ConfigError, InputError
+from biped_sim.external_push import ExternalPush
+from biped_sim.validation import finite_array
 
 
 @dataclass(frozen=True)
@@ -19,24 +26,17 @@ class PlantParams:
     as zero-mean Gaussian noise with noise_bound = 3 standard deviations, clipped to
     +-noise_bound so that every sample lies within the stated interval.
 
-    :param noise_std: standard deviation of the output noise (m), [0, 1]; 0 disables noise
-    :param noise_bound: clipping bound of the noise (m), (0, 10]
-    :param seed: seed of the noise generator, >= 0
+    :param seed: seed of the noise generator
     """
 
-    noise_std: float = 0.0
-    noise_bound: float = 0.05
-    seed: int = 0
+    noise_std: float = parameter(0.0, 'standard deviation of the output noise (m); 0 disables '
+                                 'noise', low=0.0, high=1.0)
+    noise_bound: float = parameter(0.05, 'clipping bound of the noise (m)', low=0.0, high=10.0,
+                                   low_open=True)
+    seed: int = parameter(0, 'seed of the noise generator', low=0)
 
     def __post_init__(self) -> None:
-        if not isinstance(self.noise_std, (int, float)) or not math.isfinite(self.noise_std) \
-                or not 0.0 <= self.noise_std <= 1.0:
-            raise ConfigError(f'noise_std must be in [0, 1] (m), got {self.noise_std!r}')
-        if not isinstance(self.noise_bound, (int, float)) \
-                or not math.isfinite(self.noise_bound) or not 0.0 < self.noise_bound <= 10.0:
-            raise ConfigError(f'noise_bound must be in (0, 10] (m), got {self.noise_bound!r}')
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise ConfigError(f'seed must be an integer >= 0, got {self.seed!r}')
+        validate_fields(self, ConfigError)
 
     @classmethod
     def paper_noise(cls, seed: int = 0) -> 'PlantParams':
@@ -108,7 +108,7 @@ class ModelPlant:
         :return: the measurement at that state
         :raises InputError: if the state has a wrong shape or is not finite
         """
-        self._state = finite_array('state', state, (N_PLANES, N_STATES)).copy()
+        self._state = finite_array('state', state, (N_PLANES, N_STATES), InputError).copy()
         if not isinstance(t, (int, float)) or not math.isfinite(t):
             raise InputError(f't must be a finite number (s), got {t!r}')
         self._t = float(t)
@@ -152,7 +152,7 @@ class ModelPlant:
         :return: the measurement at the end of the step
         :raises InputError: for wrong shapes or non-finite values
         """
-        u = finite_array('jerk', jerk, (N_PLANES, N_INPUTS))
+        u = finite_array('jerk', jerk, (N_PLANES, N_INPUTS), InputError)
         if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt <= 0.0:
             raise InputError(f'dt must be a finite number > 0 (s), got {dt!r}')
         discrete = self._discrete.get(dt)
@@ -161,7 +161,7 @@ class ModelPlant:
             self._discrete[dt] = discrete
         state = self._state @ discrete.a.T + u @ discrete.b.T
         if external_force is not None:
-            force = finite_array('external_force', external_force, (N_PLANES,))
+            force = finite_array('external_force', external_force, (N_PLANES,), InputError)
             state += force[:, None] * discrete.force_input[None, :]
         self._state = state
         self._t += dt
@@ -183,3 +183,37 @@ class ModelPlant:
         return PlantMeasurement(t=self._t, outputs=outputs, true_outputs=true_outputs,
                                 state=self._state.copy(), zmp_fictitious=fictitious,
                                 zmp_real=real)
+
+
+class TorsoPushes:
+    """The pushes scheduled on a model plant: each ExternalPush's horizontal force, on the torso
+    mass, over the steps it covers (the point and the link of a push are ignored).
+
+    :param time_step: duration of a step (s)
+    """
+
+    def __init__(self, time_step: float) -> None:
+        self._time_step = time_step
+        self._pushes = []
+
+    def clear(self) -> None:
+        """Forget every push."""
+        self._pushes = []
+
+    def add(self, push: ExternalPush, now: int, time_origin: float = 0.0) -> None:
+        """Schedule a push.
+
+        :param push: the push (start_time None: at step now)
+        :param now: the step about to run
+        :param time_origin: time of step 0 (s)
+        """
+        start, end = push.steps(now, self._time_step, time_origin)
+        self._pushes.append((start, end, np.array(push.force[:N_PLANES], dtype=float)))
+
+    def force(self, step: int) -> np.ndarray:
+        """(2,) sum of the horizontal forces acting at a step (N)."""
+        force = np.zeros(N_PLANES)
+        for start, end, value in self._pushes:
+            if start <= step < end:
+                force += value
+        return force

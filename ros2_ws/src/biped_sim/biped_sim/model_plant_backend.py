@@ -1,12 +1,12 @@
 """The three-mass model plant behind the SimulatorBackend interface (the paper's MATLAB robot).
 
 The rest of the stack (closed-loop runner, nodes) runs unchanged on this backend or on PyBullet.
-The robot is biped_mpc.model_plant.ModelPlant: three point masses per plane (left leg, torso,
+The robot is biped_sim.model_plant.ModelPlant: three point masses per plane (left leg, torso,
 right leg) at constant heights, driven by piecewise-constant jerks and exactly integrated, with
 an external force on the torso. How joint setpoints become plant inputs:
 
-1. Forward kinematics of the 12 leg setpoints (analytic, the description's LegGeometry) gives
-   each sole relative to the pelvis (position, heading).
+1. Forward kinematics of the 12 leg setpoints (biped_mpc.leg_kinematics, the description's
+   LegGeometry) gives each sole relative to the pelvis (position, heading).
 2. A foot is on the ground when its setpoint height (pelvis at pelvis_height above the ground
    plus the relative sole height) is at most contact_height; it is then held where the plant's
    swing put it (latched at touch-down, as a real foot that does not slip).
@@ -15,15 +15,9 @@ an external force on the torso. How joint setpoints become plant inputs:
    likewise. The model hip (torso mass target) is pelvis + R(yaw) com_offset, a swinging foot's
    target is pelvis target + its relative position, and each leg mass target is midway between
    its foot target and the model hip (section "Masses Reference Trajectories").
-4. Each mass follows its target trajectory with a jerk, like a stiff joint servo: the cubic
-   through its last four targets (of calls of equal duration) gives the target's jerk
-   (feed-forward) and its state now (position, velocity, acceleration), and a state feedback
-   K with every eigenvalue of A - B K at servo_pole (Ackermann) adds K (x_target - x). A
-   cubic reproduces a constant jerk exactly, so a target that keeps its jerk is followed
-   without error; the MPC changes its jerk every period, which the servo follows with a lag
-   of a few periods (the plant is no copy of the controller's model). The jerk that only
-   reaches the next target position (position deadbeat) is not used: it makes the velocity
-   oscillate with a growing factor -2 per period.
+4. Each mass follows its target trajectory with a jerk, like a stiff joint servo
+   (:mod:`biped_sim.model_plant_servo`: feed-forward of the cubic through its last four
+   targets plus a state feedback with every closed-loop eigenvalue at servo_pole).
 5. The plant integrates each physics step with the jerks and the push force on the torso held.
 
 Sensors are synthesised: joint positions are the leg IK of the plant's pelvis and soles (equal
@@ -42,111 +36,71 @@ from typing import Optional
 import numpy as np
 
 from biped_mpc.leg_ik import AnalyticLegIk
+from biped_mpc.leg_kinematics import LegKinematics
 from biped_mpc.linear_model import N_PLANES, N_STATES, POSITION, state_index
-from biped_mpc.model_plant import ModelPlant, PlantParams
 from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
+from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.rotations import quaternion_from_yaw, rotation_z, yaw_of_matrix
+from biped_planner.sides import LEFT, RIGHT, SIDES
+
 from biped_sim.backend import SimulatorBackend
+from biped_sim.contact_gravity_compensation import left_share
 from biped_sim.errors import ConfigError
 from biped_sim.external_push import ExternalPush
+from biped_sim.model_plant import ModelPlant, PlantParams, TorsoPushes
+from biped_sim.model_plant_servo import MASSES, MassServo, TORSO
+from biped_sim.robot_builder import COMAN_LIKE_MODEL
 from biped_sim.robot_description import RobotDescription
 from biped_sim.sensors import (BaseState, FootForceTorque, ImuReading, JointReadings,
                                SensorReadings)
+from biped_sim.validation import finite_array, finite_number, number_tuple, substep_count
 
-LEFT = 0
-RIGHT = 1
-_MASSES = (0, 1, 2)  # left leg, torso, right leg in the plant's state layout
-_TORSO = 1
+_LEG_MASS = (0, 2)  # the leg mass of each side in the plant's state layout
 
 
 @dataclass(frozen=True)
 class ModelPlantBackendParams:
-    """Parameters of the model-plant backend.
+    """Parameters of the model-plant backend; the robot's numbers default to the COMAN-like
+    robot's model file (biped_mpc/robots/coman_like.yaml).
 
-    :param masses: masses and heights of the three-mass robot (kg, m); the COMAN-like
-        numbers by default
-    :param time_step: physics step (s), (0, 0.1]
-    :param control_substeps: physics steps per control period, >= 1
-    :param pelvis_height: height of the pelvis frame above the ground (m), (0, 5]
+    :param masses: masses and heights of the three-mass robot (kg, m)
     :param com_offset: model hip (torso mass) relative to the pelvis in its heading frame
         (forward, left) (m), each in [-0.5, 0.5]; equal to the controller's com_offset
-    :param contact_height: a sole at most this high is on the ground (m), (0, 0.1]
     :param noise: measurement noise of the plant's outputs (m); only the ZMP uses it here
-    :param gravity: gravity (m/s^2), (0, 30]
     :param servo_pole: eigenvalue of each mass's tracking error per control period, [0, 1):
         0 is deadbeat (three calls of step), closer to 1 is softer and slower; a call shorter
         than the period uses servo_pole ** (its duration / period)
-    :param feed_forward: add the jerk of the cubic through the last four targets
     """
 
-    masses: ThreeMassParams = ThreeMassParams(
-        left_leg_mass=6.65, torso_mass=17.65, right_leg_mass=6.65, left_leg_height=0.265,
-        torso_height=0.672, right_leg_height=0.265)
-    time_step: float = 0.001
-    control_substeps: int = 20
-    pelvis_height: float = 0.54
-    com_offset: tuple = (0.0137, 0.0)
-    contact_height: float = 0.002
+    masses: ThreeMassParams = COMAN_LIKE_MODEL.masses
+    time_step: float = parameter(0.001, 'physics step (s)', low=0.0, high=0.1, low_open=True)
+    control_substeps: int = parameter(20, 'physics steps per control period', low=1)
+    pelvis_height: float = parameter(COMAN_LIKE_MODEL.pelvis_height, 'height of the pelvis '
+                                     'frame above the ground (m)', low=0.0, high=5.0,
+                                     low_open=True)
+    com_offset: tuple = parameter(COMAN_LIKE_MODEL.com_offset, 'model hip relative to the '
+                                  'pelvis in its heading frame, forward and left (m)', low=-0.5,
+                                  high=0.5)
+    contact_height: float = parameter(0.002, 'a sole at most this high is on the ground (m)',
+                                      low=0.0, high=0.1, low_open=True)
     noise: PlantParams = PlantParams()
-    gravity: float = 9.81
-    servo_pole: float = 0.5
-    feed_forward: bool = True
+    gravity: float = parameter(9.81, 'gravity (m/s^2)', low=0.0, high=30.0, low_open=True)
+    servo_pole: float = parameter(0.5, "eigenvalue of each mass's tracking error per control "
+                                  'period (1), below 1', low=0.0, high=1.0)
+    feed_forward: bool = parameter(True, 'add the jerk of the cubic through the last four '
+                                   'targets')
 
     def __post_init__(self) -> None:
-        for name, value, low, high in (('time_step', self.time_step, 0.0, 0.1),
-                                       ('pelvis_height', self.pelvis_height, 0.0, 5.0),
-                                       ('contact_height', self.contact_height, 0.0, 0.1),
-                                       ('gravity', self.gravity, 0.0, 30.0)):
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or not low < value <= high:
-                raise ConfigError(f'ModelPlantBackendParams.{name} must be a finite number in '
-                                  f'({low}, {high}], got {value!r}')
-        if isinstance(self.control_substeps, bool) or not isinstance(self.control_substeps, int) \
-                or self.control_substeps < 1:
-            raise ConfigError(f'ModelPlantBackendParams.control_substeps must be an int >= 1, '
-                              f'got {self.control_substeps!r}')
-        offset = np.asarray(self.com_offset, dtype=float)
-        if offset.shape != (2,) or not np.all(np.isfinite(offset)) \
-                or np.any(np.abs(offset) > 0.5):
-            raise ConfigError(f'ModelPlantBackendParams.com_offset must be 2 finite numbers in '
-                              f'[-0.5, 0.5] m, got {self.com_offset!r}')
-        object.__setattr__(self, 'com_offset', tuple(float(v) for v in offset))
-        if not isinstance(self.masses, ThreeMassParams):
-            raise ConfigError(f'ModelPlantBackendParams.masses must be ThreeMassParams, got '
-                              f'{type(self.masses).__name__}')
-        if isinstance(self.servo_pole, bool) or not isinstance(self.servo_pole, (int, float)) \
-                or not 0.0 <= self.servo_pole < 1.0:
-            raise ConfigError(f'ModelPlantBackendParams.servo_pole must be in [0, 1), got '
+        object.__setattr__(self, 'com_offset',
+                           number_tuple('ModelPlantBackendParams.com_offset', self.com_offset, 2))
+        validate_fields(self, ConfigError)
+        if self.servo_pole >= 1.0:
+            raise ConfigError(f'ModelPlantBackendParams.servo_pole must be below 1, got '
                               f'{self.servo_pole!r}')
-        if not isinstance(self.feed_forward, bool):
-            raise ConfigError(f'ModelPlantBackendParams.feed_forward must be a bool, got '
-                              f'{self.feed_forward!r}')
-        if not isinstance(self.noise, PlantParams):
-            raise ConfigError(f'ModelPlantBackendParams.noise must be PlantParams, got '
-                              f'{type(self.noise).__name__}')
-
-
-def placement_gain(a: np.ndarray, b: np.ndarray, pole: float) -> np.ndarray:
-    """State feedback K with every eigenvalue of A - B K at pole (Ackermann's formula).
-
-    :param a: (n, n) discrete state matrix of one mass (a triple integrator)
-    :param b: (n,) discrete input vector
-    :param pole: the (repeated) closed-loop eigenvalue, in [0, 1)
-    :return: (n,) gain
-    """
-    n = a.shape[0]
-    controllability = np.column_stack([np.linalg.matrix_power(a, k) @ b for k in range(n)])
-    last = np.zeros(n)
-    last[-1] = 1.0
-    shifted = a - pole * np.eye(n)
-    return last @ np.linalg.solve(controllability, np.linalg.matrix_power(shifted, n))
-
-
-def _quaternion_from_yaw(yaw: float) -> np.ndarray:
-    return np.array([0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)])
-
-
-def _yaw_of(rotation: np.ndarray) -> float:
-    return math.atan2(rotation[1, 0], rotation[0, 0])
+        for name, kind in (('masses', ThreeMassParams), ('noise', PlantParams)):
+            if not isinstance(getattr(self, name), kind):
+                raise ConfigError(f'ModelPlantBackendParams.{name} must be {kind.__name__}, got '
+                                  f'{type(getattr(self, name)).__name__}')
 
 
 class ModelPlantBackend(SimulatorBackend):
@@ -163,23 +117,24 @@ class ModelPlantBackend(SimulatorBackend):
             raise ConfigError(f'{description.name} has no leg_geometry: the model-plant backend '
                               f'needs the analytic leg kinematics')
         if not isinstance(params, ModelPlantBackendParams):
-            raise ConfigError(f'params must be ModelPlantBackendParams, got '
-                              f'{type(params).__name__}')
+            raise ConfigError(f'params must be ModelPlantBackendParams, not {params!r}')
         self._description = description
         self._params = params
-        self._kinematics = AnalyticLegIk(description.leg_geometry)
+        self._kinematics = LegKinematics(description.leg_geometry)
+        self._ik = AnalyticLegIk(description.leg_geometry)
         self._model = three_mass_model(params.masses)
         self._plant = ModelPlant(self._model, params.noise)
         self._step = params.time_step
         self._period = params.time_step * params.control_substeps
-        self._gains = {}
+        self._pushes = TorsoPushes(self._step)
+        self._servo = MassServo(self._model, self._period, self._step, params.servo_pole,
+                                params.feed_forward)
         self._last_duration = self._period
         self._com_row = self._model.com_row
         self._offset = np.array(params.com_offset)
-        masses = np.array([params.masses.left_leg_mass, params.masses.torso_mass,
-                           params.masses.right_leg_mass])
-        heights = np.array([params.masses.left_leg_height, params.masses.torso_height,
-                            params.masses.right_leg_height])
+        m = params.masses
+        masses = np.array([m.left_leg_mass, m.torso_mass, m.right_leg_mass])
+        heights = np.array([m.left_leg_height, m.torso_height, m.right_leg_height])
         self._weight = float(masses.sum()) * params.gravity
         self._com_height = float(masses @ heights / masses.sum())
         self.reset()
@@ -227,11 +182,9 @@ class ModelPlantBackend(SimulatorBackend):
         :return: the readings
         :raises ConfigError: for non-finite values or unknown joints
         """
-        if not (isinstance(base_yaw, (int, float)) and math.isfinite(base_yaw)):
-            raise ConfigError(f'base_yaw = {base_yaw!r} must be finite')
-        position = np.zeros(3) if base_position is None else np.asarray(base_position, float)
-        if position.shape != (3,) or not np.all(np.isfinite(position)):
-            raise ConfigError(f'base_position = {base_position!r} must be 3 finite numbers')
+        finite_number('base_yaw', base_yaw)
+        position = (np.zeros(3) if base_position is None
+                    else finite_array('base_position', base_position, (3,)))
         q = self._description.nominal_leg_positions()
         for name, angle in dict(joint_positions or {}).items():
             if name not in self.joint_names:
@@ -240,23 +193,22 @@ class ModelPlantBackend(SimulatorBackend):
                 raise ConfigError(f'joint_positions[{name!r}] = {angle!r} must be finite')
             q[self.joint_names.index(name)] = angle
         self._count = 0
-        self._pushes = []
+        self._pushes.clear()
         self._q = q.copy()
         self._q_measured = q.copy()
         self._yaw = float(base_yaw)
         pelvis = np.array([position[0], position[1], self._params.pelvis_height])
         relative = self._relative_soles(q, self._yaw)
         self._held = [None, None]
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             sole = pelvis + relative[side][0]
             self._held[side] = np.array([sole[0], sole[1], self._yaw + relative[side][1]])
         hip = pelvis[:2] + self._heading(self._yaw) @ self._offset
         state = np.zeros((N_PLANES, N_STATES))
-        for mass, target in zip(_MASSES, self._mass_targets(hip, pelvis, relative)):
+        for mass, target in zip(MASSES, self._mass_targets(hip, pelvis, relative)):
             state[:, state_index(mass, POSITION)] = target
         self._plant.reset(state)
-        self._history = np.repeat(state[None, :, [state_index(m, POSITION) for m in _MASSES]],
-                                  3, axis=0)
+        self._servo.reset(state[:, [state_index(m, POSITION) for m in MASSES]])
         self._pelvis_target = pelvis
         self._set_support()
         return self.sensors()
@@ -264,21 +216,20 @@ class ModelPlantBackend(SimulatorBackend):
     # ----------------------------------------------------------------------------- kinematics
     @staticmethod
     def _heading(yaw: float) -> np.ndarray:
-        c, s = math.cos(yaw), math.sin(yaw)
-        return np.array([[c, -s], [s, c]])
+        """(2, 2) rotation of the heading yaw in the ground plane."""
+        return rotation_z(yaw)[:2, :2]
 
     def _relative_soles(self, q: np.ndarray, yaw: float) -> tuple:
         """Each sole relative to the pelvis (position (3,) in world axes, relative heading)."""
-        c, s = math.cos(yaw), math.sin(yaw)
-        rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        left_p, left_r, right_p, right_r = self._kinematics.forward(q, np.zeros(3), rotation)
-        return ((np.asarray(left_p), _yaw_of(left_r) - yaw),
-                (np.asarray(right_p), _yaw_of(right_r) - yaw))
+        left_p, left_r, right_p, right_r = self._kinematics.forward(q, np.zeros(3),
+                                                                    rotation_z(yaw))
+        return ((np.asarray(left_p), yaw_of_matrix(left_r) - yaw),
+                (np.asarray(right_p), yaw_of_matrix(right_r) - yaw))
 
     def _mass_targets(self, hip: np.ndarray, pelvis: np.ndarray, relative: tuple) -> tuple:
         """Targets (2,) of the left leg, torso and right leg masses."""
         feet = []
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             if self._held[side] is not None and self._on_ground(relative[side][0]):
                 feet.append(self._held[side][:2])
             else:
@@ -302,16 +253,10 @@ class ModelPlantBackend(SimulatorBackend):
         :return: the readings at the end
         :raises ConfigError: for a wrong shape, NaN/inf or n_substeps < 1
         """
-        n = self._params.control_substeps if n_substeps is None else n_substeps
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-            raise ConfigError(f'n_substeps = {n_substeps!r} must be an int >= 1')
-        q = np.asarray(joint_setpoints, dtype=float)
-        if q.shape != (12,) or not np.all(np.isfinite(q)):
-            raise ConfigError(f'joint_setpoints must be 12 finite angles, got {joint_setpoints!r}')
+        n = substep_count(n_substeps, self._params.control_substeps)
+        q = finite_array('joint_setpoints', joint_setpoints, (12,))
         if joint_velocities is not None:
-            velocities = np.asarray(joint_velocities, dtype=float)
-            if velocities.shape != (12,) or not np.all(np.isfinite(velocities)):
-                raise ConfigError('joint_velocities must be 12 finite speeds')
+            finite_array('joint_velocities', joint_velocities, (12,))
         self._q = q.copy()
         relative = self._relative_soles(q, self._yaw)
         self._update_contacts(relative)
@@ -319,9 +264,9 @@ class ModelPlantBackend(SimulatorBackend):
         hip = pelvis[:2] + self._heading(self._yaw) @ self._offset
         targets = np.stack(self._mass_targets(hip, pelvis, relative), axis=1)  # (2, 3)
         self._last_duration = n * self._step
-        jerk = self._tracking_jerk(targets, self._last_duration)
+        jerk = self._servo.jerk(targets, self._plant.state, self._last_duration)
         for _ in range(int(n)):
-            force = self._push_force()
+            force = self._pushes.force(self._count)
             self._plant.step(jerk, self._step, force if np.any(force) else None)
             self._count += 1
         self._pelvis_target = pelvis
@@ -331,8 +276,8 @@ class ModelPlantBackend(SimulatorBackend):
     def _update_contacts(self, relative: tuple) -> None:
         """Latch a sole that reaches the ground where its swing put it; release a lifted one."""
         state = self._plant.state
-        hip = state[:, state_index(_TORSO, POSITION)]
-        for side, mass in ((LEFT, 0), (RIGHT, 2)):
+        hip = state[:, state_index(TORSO, POSITION)]
+        for side, mass in zip(SIDES, _LEG_MASS):
             if not self._on_ground(relative[side][0]):
                 self._held[side] = None
             elif self._held[side] is None:
@@ -341,7 +286,7 @@ class ModelPlantBackend(SimulatorBackend):
 
     def _pelvis_from_feet(self, relative: tuple) -> np.ndarray:
         anchors, yaws = [], []
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             if self._held[side] is not None:
                 anchors.append(self._held[side][:2] - relative[side][0][:2])
                 yaws.append(self._held[side][2] - relative[side][1])
@@ -351,45 +296,11 @@ class ModelPlantBackend(SimulatorBackend):
         xy = np.mean(anchors, axis=0)
         return np.array([xy[0], xy[1], self._params.pelvis_height])
 
-    def _tracking_jerk(self, targets: np.ndarray, duration: float) -> np.ndarray:
-        """Jerks (2, 3) that follow the cubic through the last four targets of each mass."""
-        history = np.concatenate([self._history, targets[None]], axis=0)  # (4, 2, 3)
-        self._history = history[1:]
-        h = duration
-        p_minus2, p_minus1, p_now, p_next = history
-        jerk_ff = (p_next - 3.0 * p_now + 3.0 * p_minus1 - p_minus2) / h ** 3
-        acceleration = (p_next - 2.0 * p_now + p_minus1) / h ** 2
-        velocity = (p_next - p_minus1) / (2.0 * h) - jerk_ff * h ** 2 / 6.0
-        if not self._params.feed_forward:
-            jerk_ff = np.zeros_like(jerk_ff)
-        state = self._plant.state
-        jerk = np.empty((N_PLANES, 3))
-        for mass in _MASSES:
-            block = slice(state_index(mass, POSITION), state_index(mass, POSITION) + 3)
-            target = np.stack([p_now[:, mass], velocity[:, mass], acceleration[:, mass]], axis=1)
-            jerk[:, mass] = jerk_ff[:, mass] + (target - state[:, block]) @ self._gain(h)
-        return jerk
-
-    def _gain(self, duration: float) -> np.ndarray:
-        """Servo gain for calls of this duration, with the pole scaled to keep its time constant.
-
-        The pole is servo_pole per control period, servo_pole ** (duration / period) per call.
-        """
-        key = round(duration / self._step)
-        gain = self._gains.get(key)
-        if gain is None:
-            discrete = self._model.discretize(duration)
-            block = slice(state_index(_TORSO, POSITION), state_index(_TORSO, POSITION) + 3)
-            pole = self._params.servo_pole ** (duration / self._period)
-            gain = placement_gain(discrete.a[block, block], discrete.b[block, _TORSO], pole)
-            self._gains[key] = gain
-        return gain
-
     def _set_support(self) -> None:
         """Give the plant the box of the feet on the ground for its real ZMP."""
         corners = []
         half = 0.5 * np.array([self._description.sole_length, self._description.sole_width])
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             held = self._held[side]
             if held is None:
                 continue
@@ -408,17 +319,7 @@ class ModelPlantBackend(SimulatorBackend):
 
         :param push: the push
         """
-        start = self._count if push.start_time is None else int(round(push.start_time
-                                                                      / self._step))
-        end = start + max(1, int(round(push.duration / self._step)))
-        self._pushes.append((start, end, np.array(push.force[:2], dtype=float)))
-
-    def _push_force(self) -> np.ndarray:
-        force = np.zeros(N_PLANES)
-        for start, end, value in self._pushes:
-            if start <= self._count < end:
-                force += value
-        return force
+        self._pushes.add(push, self._count)
 
     # ----------------------------------------------------------------------------- sensing
     def sensors(self) -> SensorReadings:
@@ -426,14 +327,14 @@ class ModelPlantBackend(SimulatorBackend):
         measurement = self._plant.measure()
         state = measurement.state
         params = self._params
-        hip = state[:, state_index(_TORSO, POSITION)]
+        hip = state[:, state_index(TORSO, POSITION)]
         heading = self._heading(self._yaw)
         pelvis = np.array([*(hip - heading @ self._offset), params.pelvis_height])
-        torso_velocity = state[:, state_index(_TORSO, POSITION) + 1]
-        torso_acceleration = state[:, state_index(_TORSO, POSITION) + 2]
+        torso_velocity = state[:, state_index(TORSO, POSITION) + 1]
+        torso_acceleration = state[:, state_index(TORSO, POSITION) + 2]
         relative = self._relative_soles(self._q, self._yaw)
         soles = []
-        for side, mass in ((LEFT, 0), (RIGHT, 2)):
+        for side, mass in zip(SIDES, _LEG_MASS):
             if self._held[side] is not None:
                 xy = self._held[side][:2]
             else:
@@ -445,7 +346,7 @@ class ModelPlantBackend(SimulatorBackend):
         feet = self._feet(zmp, soles)
         if not (feet[0].in_contact or feet[1].in_contact):
             zmp = np.full(2, np.nan)
-        orientation = _quaternion_from_yaw(self._yaw)
+        orientation = quaternion_from_yaw(self._yaw)
         yaw_rotation = np.eye(3)
         yaw_rotation[:2, :2] = heading
         acceleration = np.array([torso_acceleration[0], torso_acceleration[1], params.gravity])
@@ -465,26 +366,23 @@ class ModelPlantBackend(SimulatorBackend):
         rotation = np.eye(3)
         rotation[:2, :2] = self._heading(self._yaw)
         poses = []
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             yaw = self._held[side][2] if self._held[side] is not None \
                 else self._yaw + relative[side][1]
             foot = np.eye(3)
             foot[:2, :2] = self._heading(yaw)
             poses.extend([soles[side], foot])
-        return np.asarray(self._kinematics.solve(pelvis, rotation, *poses).q, dtype=float)
+        return np.asarray(self._ik.solve(pelvis, rotation, *poses).q, dtype=float)
 
     def _feet(self, zmp: np.ndarray, soles: list) -> tuple:
         """F/T readings: the weight shared by the lever rule, the ZMP as centre of pressure."""
-        in_contact = [self._held[side] is not None for side in (LEFT, RIGHT)]
+        in_contact = [self._held[side] is not None for side in SIDES]
         share = np.array([float(c) for c in in_contact])
         if all(in_contact):
-            between = soles[LEFT][:2] - soles[RIGHT][:2]
-            length = float(between @ between)
-            t = 0.5 if length < 1e-12 else float(np.clip((zmp - soles[RIGHT][:2]) @ between
-                                                         / length, 0.0, 1.0))
+            t = float(left_share(zmp, soles[LEFT], soles[RIGHT]))
             share = np.array([t, 1.0 - t])
         feet = []
-        for side in (LEFT, RIGHT):
+        for side in SIDES:
             force = np.array([0.0, 0.0, share[side] * self._weight])
             cop = np.array([zmp[0], zmp[1], soles[side][2]]) if in_contact[side] \
                 else np.full(3, np.nan)

@@ -2,25 +2,18 @@
 
 The planner describes obstacles in the ground plane; the simulator extrudes them to a height.
 :func:`as_sim_obstacle` accepts these classes or any object with the same attributes (duck
-typing, so biped_sim does not import the planner): a disc has ``radius`` and a centre given as
+typing: the planner's obstacles, or a user's): a disc has ``radius`` and a centre given as
 ``x, y`` or ``center``; a box has ``x, y, size_x, size_y`` (optional ``yaw``) or
 ``x_min, y_min, x_max, y_max``.
 """
 
 from dataclasses import dataclass
-import math
 
 from biped_sim.errors import ConfigError
+from biped_sim.validation import finite_number
 
 DEFAULT_OBSTACLE_HEIGHT = 0.5  # m
-
-
-def _check(owner: str, name: str, value: float, positive: bool) -> float:
-    value = float(value)
-    if not math.isfinite(value) or (positive and value <= 0.0):
-        raise ConfigError('%s.%s = %r must be finite%s'
-                          % (owner, name, value, ' and > 0' if positive else ''))
-    return value
+_POSITIVE = ('size_x', 'size_y', 'radius', 'height')
 
 
 @dataclass(frozen=True)
@@ -43,12 +36,10 @@ class BoxObstacle:
     height: float = DEFAULT_OBSTACLE_HEIGHT
 
     def __post_init__(self):
-        for name in ('x', 'y', 'yaw'):
-            object.__setattr__(self, name, _check('BoxObstacle', name, getattr(self, name),
-                                                  False))
-        for name in ('size_x', 'size_y', 'height'):
-            object.__setattr__(self, name, _check('BoxObstacle', name, getattr(self, name),
-                                                  True))
+        for name in ('x', 'y', 'yaw', 'size_x', 'size_y', 'height'):
+            object.__setattr__(self, name, finite_number('BoxObstacle.' + name,
+                                                         getattr(self, name),
+                                                         positive=name in _POSITIVE))
 
 
 @dataclass(frozen=True)
@@ -67,12 +58,10 @@ class DiscObstacle:
     height: float = DEFAULT_OBSTACLE_HEIGHT
 
     def __post_init__(self):
-        for name in ('x', 'y'):
-            object.__setattr__(self, name, _check('DiscObstacle', name, getattr(self, name),
-                                                  False))
-        for name in ('radius', 'height'):
-            object.__setattr__(self, name, _check('DiscObstacle', name, getattr(self, name),
-                                                  True))
+        for name in ('x', 'y', 'radius', 'height'):
+            object.__setattr__(self, name, finite_number('DiscObstacle.' + name,
+                                                         getattr(self, name),
+                                                         positive=name in _POSITIVE))
 
 
 def as_sim_obstacle(obstacle, height: float = DEFAULT_OBSTACLE_HEIGHT):
@@ -115,7 +104,7 @@ def boxes_from_occupied_cells(occupied, resolution: float, origin: tuple,
     :param height: box height (m)
     :return: list of BoxObstacle
     """
-    resolution = _check('grid', 'resolution', resolution, True)
+    resolution = finite_number('grid.resolution', resolution, positive=True)
     boxes = []
     for row, cells in enumerate(occupied):
         col = 0

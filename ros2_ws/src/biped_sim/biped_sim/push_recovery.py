@@ -1,57 +1,54 @@
-"""When a push on the model plant counts as withstood, and the search for the largest one."""
+"""When a push on the model plant counts as withstood, and the search for the largest one.
+
+An evaluator of the paper's MATLAB loop (biped_sim.model_walk): the model plant cannot fall,
+so a run is judged by what a real robot would need.
+"""
 from dataclasses import dataclass, field
-import math
 from typing import Callable
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError
 from biped_mpc.linear_model import OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG
-from biped_mpc.model_walk import Push, WalkLog
+from biped_planner.parameter_fields import parameter, validate_fields
+
+from biped_sim.errors import ConfigError
+from biped_sim.external_push import ExternalPush
+from biped_sim.walk_log import WalkLog
 
 
 @dataclass(frozen=True)
 class WithstandCriteria:
     """Thresholds of the definition of a withstood push (see evaluate_push).
 
-    :param recovery_time: time after the end of the push during which the fictitious ZMP may
-        stay outside the support polygon (s), [0, 10]
-    :param zmp_tolerance: distance outside the real support polygon tolerated after the
-        recovery time (m), [0, 0.1]
-    :param leg_error: largest distance of a leg mass from its reference at any time (m),
-        (0, 10]; beyond it the legs could not realise the motion
-    :param torso_offset: largest distance of the torso mass from the hip reference at any time
-        (m), (0, 10]
-    :param final_com_error: largest distance of the centre of mass from the final hip
-        reference at the end of the run (m), (0, 10]
-    :param final_com_speed: largest centre-of-mass speed per plane at the end of the run (m/s),
-        (0, 10]
+    :raises ConfigError: naming the field, for a value out of its range
     """
 
-    recovery_time: float = 0.5
-    zmp_tolerance: float = 0.005
-    leg_error: float = 0.15
-    torso_offset: float = 0.3
-    final_com_error: float = 0.05
-    final_com_speed: float = 0.1
+    recovery_time: float = parameter(0.5, 'time after the end of the push during which the '
+                                     'fictitious ZMP may stay outside the support polygon (s)',
+                                     low=0.0, high=10.0)
+    zmp_tolerance: float = parameter(0.005, 'distance outside the real support polygon '
+                                     'tolerated after the recovery time (m)', low=0.0, high=0.1)
+    leg_error: float = parameter(0.15, 'largest distance of a leg mass from its reference at '
+                                 'any time (m); beyond it the legs could not realise the '
+                                 'motion', low=0.0, high=10.0, low_open=True)
+    torso_offset: float = parameter(0.3, 'largest distance of the torso mass from the hip '
+                                    'reference at any time (m)', low=0.0, high=10.0,
+                                    low_open=True)
+    final_com_error: float = parameter(0.05, 'largest distance of the centre of mass from the '
+                                       'final hip reference at the end of the run (m)', low=0.0,
+                                       high=10.0, low_open=True)
+    final_com_speed: float = parameter(0.1, 'largest centre-of-mass speed per plane at the end '
+                                       'of the run (m/s)', low=0.0, high=10.0, low_open=True)
 
     def __post_init__(self) -> None:
-        for name, low, high, low_open in (
-                ('recovery_time', 0.0, 10.0, False), ('zmp_tolerance', 0.0, 0.1, False),
-                ('leg_error', 0.0, 10.0, True), ('torso_offset', 0.0, 10.0, True),
-                ('final_com_error', 0.0, 10.0, True), ('final_com_speed', 0.0, 10.0, True)):
-            value = getattr(self, name)
-            if (not isinstance(value, (int, float)) or not math.isfinite(value) or value > high
-                    or value < low or (low_open and value == low)):
-                raise ConfigError(f'{name} must be in {"(" if low_open else "["}{low}, {high}], '
-                                  f'got {value!r}')
+        validate_fields(self, ConfigError)
 
 
 @dataclass(frozen=True)
 class PushOutcome:
     """Verdict on one run.
 
-    :param force: push force of the run per plane (N)
+    :param force: (3,) push force of the run (N)
     :param withstood: True when every condition holds
     :param failures: the conditions that failed, in words
     :param metrics: the measured quantities behind the verdict (SI units)
@@ -74,7 +71,7 @@ def late_excursion(log: WalkLog, t_from: float) -> float:
     return float(log.polygon_excursion()[after].max()) if after.any() else 0.0
 
 
-def evaluate_push(log: WalkLog, push: Push,
+def evaluate_push(log: WalkLog, push: ExternalPush,
                   criteria: WithstandCriteria = WithstandCriteria()) -> PushOutcome:
     """Decide whether the robot of the model plant withstood the push.
 
@@ -95,11 +92,12 @@ def evaluate_push(log: WalkLog, push: Push,
        and moves slower than final_com_speed (0.1 m/s) in each plane.
 
     :param log: the run with the push
-    :param push: the push of the run
+    :param push: the push of the run (start_time None: at the start of the run)
     :param criteria: the thresholds
     :return: the verdict, with the failed conditions and the metrics
     """
-    t_from = push.t_start + push.duration + criteria.recovery_time
+    start = float(log.t[0]) if push.start_time is None else push.start_time
+    t_from = start + push.duration + criteria.recovery_time
     excursion = log.polygon_excursion()
     late = late_excursion(log, t_from)
     allowed = criteria.zmp_tolerance

@@ -1,12 +1,16 @@
-"""Robot description: what the simulator, the IK and the controller need to know about a humanoid.
+"""Robot description: what the simulator needs to know about a humanoid, and the controller's view.
 
 Any humanoid loads through a :class:`RobotDescription`: its URDF, the 12 leg joints in the order
 (left hip yaw, hip roll, hip pitch, knee, ankle pitch, ankle roll, then the same for the right
 leg), the sole frames, the IMU link, the ankle force/torque joints and a nominal standing pose.
 A robot whose legs have intersecting hip and ankle axes also gives its :class:`LegGeometry`
-for the exact analytic IK.
+for the exact analytic IK. A robot the walking controller drives carries its
+``controller_model``, the biped_mpc RobotModel (leg geometry, masses, pelvis height) read from
+the same description file the MPC node loads: the COMAN-like robot's is
+biped_mpc/robots/coman_like.yaml, whose legs the URDF is built from.
 """
 
+import dataclasses
 from dataclasses import dataclass
 from dataclasses import field
 import math
@@ -16,20 +20,10 @@ from typing import Mapping, Optional
 
 import numpy as np
 
-from biped_mpc.robot_model import LegGeometry
+from biped_mpc.robot_model import LegGeometry, RobotModel
 
 from biped_sim import robot_builder
 from biped_sim.errors import ConfigError
-
-LEG_JOINT_ROLES = ('hip_yaw', 'hip_roll', 'hip_pitch', 'knee', 'ankle_pitch', 'ankle_roll')
-
-
-def _vector(name: str, value, size: int) -> tuple:
-    array = np.asarray(value, dtype=float)
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise ConfigError('%s = %r must be %d finite numbers' % (name, value, size))
-    return tuple(float(v) for v in array)
-
 
 @dataclass(frozen=True)
 class RobotDescription:
@@ -49,6 +43,8 @@ class RobotDescription:
     :param nominal_joint_positions: standing pose, joint name -> angle (rad); joints not listed
         stand at 0.
     :param leg_geometry: dimensions for the analytic leg IK, None if the legs do not allow it.
+    :param controller_model: the robot as the walking controller sees it (same leg joints, sole
+        frames and leg geometry), None for a robot without one.
     """
 
     name: str
@@ -62,6 +58,7 @@ class RobotDescription:
     sole_width: float
     nominal_joint_positions: Mapping = field(default_factory=dict)
     leg_geometry: Optional[LegGeometry] = None
+    controller_model: Optional[RobotModel] = None
 
     def __post_init__(self):
         if not Path(self.urdf_path).is_file():
@@ -86,6 +83,15 @@ class RobotDescription:
         object.__setattr__(self, 'leg_joint_names', tuple(self.leg_joint_names))
         object.__setattr__(self, 'sole_frames', tuple(self.sole_frames))
         object.__setattr__(self, 'ft_joints', tuple(self.ft_joints))
+        model = self.controller_model
+        if model is not None:
+            if not isinstance(model, RobotModel):
+                raise ConfigError('controller_model must be a biped_mpc RobotModel, got %r'
+                                  % (model,))
+            if (model.leg_joint_names, model.sole_frames, model.leg_geometry) != (
+                    self.leg_joint_names, self.sole_frames, self.leg_geometry):
+                raise ConfigError('controller_model %r names other leg joints, sole frames or '
+                                  'leg geometry than the description' % (model.name,))
 
     def nominal_leg_positions(self) -> np.ndarray:
         """Return the nominal angles of the 12 leg joints (rad), leg-joint order."""
@@ -121,21 +127,16 @@ COMAN_LIKE_NOMINAL_HIP_HEIGHT = 0.47  # m, hip centre above the soles when stand
 def coman_like() -> RobotDescription:
     """Return the description of the COMAN-like humanoid built by robot_builder.
 
-    The nominal pose stands crouched with the hip centres COMAN_LIKE_NOMINAL_HIP_HEIGHT above
-    the soles (pelvis frame 0.07 m higher), feet below the hips, arms slightly bent.
+    Its leg geometry and controller model are biped_mpc/robots/coman_like.yaml's (the URDF's
+    legs are built from it). The nominal pose stands crouched with the hip centres
+    COMAN_LIKE_NOMINAL_HIP_HEIGHT above the soles (pelvis frame 0.07 m higher), feet below the
+    hips, arms slightly bent.
     """
-    model = robot_builder.build_coman_like()
-    limits = {j.name: j.limits for j in model.joints if not j.is_fixed}
-    leg_joint_names = tuple('%s_%s_joint' % (side, role)
-                            for side in ('l', 'r') for role in LEG_JOINT_ROLES)
-    geometry = LegGeometry(
-        hip_offset=robot_builder.HIP_OFFSET,
-        thigh_length=robot_builder.THIGH_LENGTH,
-        shank_length=robot_builder.SHANK_LENGTH,
-        ankle_to_sole=(0.0, 0.0, -(robot_builder.ANKLE_TO_FT + robot_builder.FT_TO_SOLE)),
-        joint_lower=tuple(limits[n].lower for n in leg_joint_names),
-        joint_upper=tuple(limits[n].upper for n in leg_joint_names))
+    controller_model = dataclasses.replace(robot_builder.COMAN_LIKE_MODEL,
+                                           urdf_path=str(robot_builder.COMAN_LIKE_URDF))
+    geometry = controller_model.leg_geometry
     leg = crouched_leg_angles(geometry, COMAN_LIKE_NOMINAL_HIP_HEIGHT)
+    leg_joint_names = controller_model.leg_joint_names
     nominal = {name: float(angle) for name, angle in zip(leg_joint_names, np.tile(leg, 2))}
     nominal.update({'l_shoulder_roll_joint': 0.15, 'r_shoulder_roll_joint': -0.15,
                     'l_elbow_joint': -0.4, 'r_elbow_joint': -0.4})
@@ -144,10 +145,11 @@ def coman_like() -> RobotDescription:
         urdf_path=str(robot_builder.COMAN_LIKE_URDF),
         base_link='pelvis',
         leg_joint_names=leg_joint_names,
-        sole_frames=('l_sole', 'r_sole'),
+        sole_frames=controller_model.sole_frames,
         imu_link='imu_link',
         ft_joints=('l_ankle_ft_joint', 'r_ankle_ft_joint'),
         sole_length=robot_builder.FOOT_LENGTH,
         sole_width=robot_builder.FOOT_WIDTH,
         nominal_joint_positions=nominal,
-        leg_geometry=geometry)
+        leg_geometry=geometry,
+        controller_model=controller_model)

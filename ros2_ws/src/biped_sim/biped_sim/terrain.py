@@ -10,48 +10,42 @@ import math
 
 import numpy as np
 
+from biped_planner.parameter_fields import parameter, validate_fields
+
 from biped_sim.errors import ConfigError
+from biped_sim.validation import number_tuple
 
 PAPER_TILE_AREAS = (0.01, 0.04, 0.0625)  # m^2: 100, 400 and 625 cm^2
 
 
 @dataclass(frozen=True)
 class TerrainParams:
-    """Parameters of a tiled terrain.
+    """Parameters of a tiled terrain; the area holds ceil(side_length / tile side) tiles per side.
 
-    :param tile_area: area of one square tile (m^2), > 0 (side = sqrt(area)).
-    :param side_length: side of the square area to cover (m), >= one tile; the area holds
-        ceil(side_length / tile side) tiles per side.
-    :param min_height: lowest tile top above the ground plane (m), >= 0.
-    :param max_height: highest tile top (m), >= min_height.
     :param origin: (x, y) of the area's corner with the smallest coordinates (m).
-    :param seed: seed of the random heights.
     """
 
-    tile_area: float = 0.04
-    side_length: float = 4.0
-    min_height: float = 0.025
-    max_height: float = 0.05
-    origin: tuple = (-2.0, -2.0)
-    seed: int = 0
+    tile_area: float = parameter(0.04, 'area of one square tile (m^2), side = sqrt(area)',
+                                 low=1e-4, high=100.0)
+    side_length: float = parameter(4.0, 'side of the square area to cover (m), at least one '
+                                   'tile', low=0.0, high=100.0, low_open=True)
+    min_height: float = parameter(0.025, 'lowest tile top above the ground plane (m)', low=0.0,
+                                  high=1.0)
+    max_height: float = parameter(0.05, 'highest tile top (m), at least min_height', low=0.0,
+                                  high=1.0)
+    origin: tuple = parameter((-2.0, -2.0), 'x, y of the corner of the area with the smallest '
+                              'coordinates (m)', low=-1e4, high=1e4)
+    seed: int = parameter(0, 'seed of the random tile heights', low=0, high=2 ** 31 - 1)
 
     def __post_init__(self):
-        checks = (('tile_area', self.tile_area > 0.0, '> 0'),
-                  ('min_height', self.min_height >= 0.0, '>= 0'),
-                  ('max_height', self.max_height >= self.min_height, '>= min_height'))
-        for name, ok, allowed in checks:
-            value = getattr(self, name)
-            if not (math.isfinite(value) and ok):
-                raise ConfigError('TerrainParams.%s = %r must be finite and %s'
-                                  % (name, value, allowed))
-        if not (math.isfinite(self.side_length) and self.side_length >= self.tile_side - 1e-12):
-            raise ConfigError('TerrainParams.side_length = %r m must be finite and >= the tile '
-                              'side %.4f m' % (self.side_length, self.tile_side))
-        origin = np.asarray(self.origin, dtype=float)
-        if origin.shape != (2,) or not np.all(np.isfinite(origin)):
-            raise ConfigError('TerrainParams.origin = %r must be 2 finite numbers'
-                              % (self.origin,))
-        object.__setattr__(self, 'origin', (float(origin[0]), float(origin[1])))
+        object.__setattr__(self, 'origin', number_tuple('TerrainParams.origin', self.origin, 2))
+        validate_fields(self, ConfigError)
+        if self.max_height < self.min_height:
+            raise ConfigError('TerrainParams.max_height = %r m must be >= min_height = %r m'
+                              % (self.max_height, self.min_height))
+        if self.side_length < self.tile_side - 1e-12:
+            raise ConfigError('TerrainParams.side_length = %r m must be >= the tile side %.4f m'
+                              % (self.side_length, self.tile_side))
 
     @property
     def tile_side(self) -> float:

@@ -1,7 +1,7 @@
 """Closed-loop walking of the PyBullet humanoid: references -> walking controller -> physics.
 
 Headless, a few seconds of simulated time each. The walks use the configuration that walked
-(biped_sim.closed_loop module docstring): torque control with leg_kp 2000 (capped per joint),
+(docs/simulator_notes.md): torque control with leg_kp 2000 (capped per joint),
 setpoints ramped over 4 parts of the period, 0.4 s single and 0.2 s double support, 4 cm swing
 height, the controller's defaults (feedback 'prediction', pelvis velocity servo, posture
 feedback).
@@ -17,13 +17,14 @@ from biped_planner.omnidirectional_stepper import OmnidirectionalStepper, StepCo
 from biped_planner.pose2d import Pose2D
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
-from biped_sim.closed_loop import (ClosedLoopParams, ClosedLoopRunner, CommandedWalk,
-                                   PlannedWalk, RunLog)
+from biped_sim.closed_loop import ClosedLoopParams, ClosedLoopRunner
 from biped_sim.errors import ConfigError
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_plant_backend import ModelPlantBackend, ModelPlantBackendParams
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.reference_sources import CommandedWalk, PlannedWalk
 from biped_sim.robot_description import coman_like
+from biped_sim.run_log import RunLog
 
 TIMING = StepTiming(single_support=0.4, double_support=0.2)
 REFERENCE = ReferenceParams(com_height=0.497, swing_height=0.04, foot_length=0.2,
@@ -48,7 +49,7 @@ def sim(robot):
 
 @pytest.fixture(scope='module')
 def controller(robot):
-    return WalkingController(WalkingControllerParams(robot=robot))
+    return WalkingController(WalkingControllerParams(robot=robot.controller_model))
 
 
 def walk(sim, controller, n_steps, step_length, extra=1.0, **params):
@@ -149,7 +150,7 @@ def test_fall_is_detected_and_ends_the_run(sim, controller):
 
 def test_commanded_walk_keeps_its_plan_ahead_and_moves_forward(robot):
     backend = ModelPlantBackend(robot, ModelPlantBackendParams())
-    controller = WalkingController(WalkingControllerParams(robot=robot,
+    controller = WalkingController(WalkingControllerParams(robot=robot.controller_model,
                                                            pelvis_velocity_gain=0.0))
 
     def command(t):
@@ -190,7 +191,7 @@ def test_zmp_inside_support_against_hand_made_cases():
 
 def test_setpoints_are_sent_as_a_ramp_over_the_period(robot):
     backend = ModelPlantBackend(robot)
-    controller = WalkingController(WalkingControllerParams(robot=robot))
+    controller = WalkingController(WalkingControllerParams(robot=robot.controller_model))
     reference = WalkingReference(straight_footsteps(2, 0.1, STEP_WIDTH), TIMING, REFERENCE,
                                  t_start=0.0)
     runner = ClosedLoopRunner(backend, controller, reference,
@@ -228,7 +229,7 @@ def test_bad_runner_parameters_are_rejected(overrides):
 
 def test_runner_rejects_bad_setups(robot):
     backend = ModelPlantBackend(robot)
-    controller = WalkingController(WalkingControllerParams(robot=robot))
+    controller = WalkingController(WalkingControllerParams(robot=robot.controller_model))
     reference = WalkingReference(straight_footsteps(0, 0.0, STEP_WIDTH), TIMING, REFERENCE)
     with pytest.raises(ConfigError):
         ClosedLoopRunner(backend, controller, reference,

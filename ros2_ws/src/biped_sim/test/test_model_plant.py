@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.model_plant import ModelPlant, PlantParams
 from biped_mpc.three_mass_model import three_mass_model
+from biped_sim.errors import ConfigError, InputError
+from biped_sim.model_plant import ModelPlant, PlantParams
 
 MODEL = three_mass_model()
 

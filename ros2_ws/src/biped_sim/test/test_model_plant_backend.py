@@ -16,8 +16,9 @@ from biped_sim.backend import SimulatorBackend
 from biped_sim.closed_loop import ClosedLoopParams, ClosedLoopRunner
 from biped_sim.errors import ConfigError
 from biped_sim.external_push import ExternalPush
-from biped_sim.model_plant_backend import (ModelPlantBackend, ModelPlantBackendParams,
-                                           placement_gain)
+from biped_sim.model_plant import PlantParams
+from biped_sim.model_plant_backend import ModelPlantBackend, ModelPlantBackendParams
+from biped_sim.model_plant_servo import placement_gain
 from biped_sim.robot_description import coman_like
 
 PARAMS = ModelPlantBackendParams()
@@ -154,7 +155,6 @@ def test_push_moves_the_torso_and_the_servo_brings_it_back(plant, robot):
 
 
 def test_output_noise_reaches_the_zmp_only(robot):
-    from biped_mpc.model_plant import PlantParams
     noisy = ModelPlantBackend(robot, ModelPlantBackendParams(noise=PlantParams(
         noise_std=0.01, noise_bound=0.05, seed=3)))
     quiet = ModelPlantBackend(robot)
@@ -165,7 +165,7 @@ def test_output_noise_reaches_the_zmp_only(robot):
 
 def walk(robot, n_steps, step_length, **controller):
     backend = ModelPlantBackend(robot)
-    controller = WalkingController(WalkingControllerParams(robot=robot,
+    controller = WalkingController(WalkingControllerParams(robot=robot.controller_model,
                                                            pelvis_velocity_gain=0.0,
                                                            tilt_gain=0.0, **controller))
     footsteps = straight_footsteps(n_steps, step_length, 0.14)

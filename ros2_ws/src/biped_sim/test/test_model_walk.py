@@ -2,11 +2,13 @@
 import numpy as np
 import pytest
 
-from biped_mpc.errors import ConfigError
 from biped_mpc.linear_mpc import MpcParams
 from biped_mpc.lipm_model import lipm_model, LipmParams
-from biped_mpc.model_walk import optimal_fraction, Push, run_walk, tracking_rms, WalkSetup
 from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
+from biped_sim.errors import ConfigError
+from biped_sim.external_push import ExternalPush
+from biped_sim.model_walk import run_walk, WalkSetup
+from biped_sim.walk_log import optimal_fraction, tracking_rms
 
 THREE_MASS = three_mass_model()
 LIPM = lipm_model(LipmParams.from_three_mass(ThreeMassParams()))
@@ -76,15 +78,17 @@ def test_paper_literal_form_is_infeasible_in_the_paper_walk(paper_reference):
 
 def test_push_is_applied_on_its_cycles_only(paper_reference):
     setup = WalkSetup(controller_model=THREE_MASS, plant_model=THREE_MASS,
-                      push=Push((100.0, -50.0), 1.6, 0.1), polygon_margin=MARGIN)
+                      push=ExternalPush((100.0, -50.0, 0.0), duration=0.1, start_time=1.6),
+                      polygon_margin=MARGIN)
     log = run_walk(paper_reference, setup)
     pushed = np.flatnonzero(np.any(log.force != 0.0, axis=1))
     np.testing.assert_allclose(log.t[pushed], 1.6 + 0.02 * np.arange(5), atol=1e-9)
     np.testing.assert_array_equal(log.force[pushed[0]], [100.0, -50.0])
 
 
-@pytest.mark.parametrize('kwargs', [dict(force=(1.0,)), dict(force=(np.nan, 0.0)),
-                                    dict(duration=-0.1), dict(t_start=np.inf)])
+@pytest.mark.parametrize('kwargs', [dict(force=(1.0,)), dict(force=(np.nan, 0.0, 0.0)),
+                                    dict(force=(1.0, 0.0, 0.0), duration=-0.1),
+                                    dict(force=(1.0, 0.0, 0.0), start_time=np.inf)])
 def test_bad_push_raises(kwargs):
     with pytest.raises(ConfigError):
-        Push(**kwargs)
+        ExternalPush(**kwargs)

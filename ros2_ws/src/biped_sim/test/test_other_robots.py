@@ -16,11 +16,12 @@ import pytest
 
 from biped_mpc.leg_ik import AnalyticLegIk
 from biped_mpc.pinocchio_ik import PinocchioLegIk
+from biped_planner.rotations import tilt_of_quaternion
 from biped_sim import other_robots
 from biped_sim.errors import ConfigError
 from biped_sim.external_push import ExternalPush
-from biped_sim.other_robots import (MissingRobotDataError, ROBOTS, sim_config, tilt,
-                                    weight_shift_trial)
+from biped_sim.other_robots import MissingRobotDataError, ROBOTS, sim_config
+from biped_sim.weight_shift_trial import WEIGHT_SHIFT_PHASES, weight_shift_trial
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 
@@ -102,10 +103,11 @@ def test_bad_settings_raise():
 
 
 def test_upright_tilt_is_zero_and_a_quarter_turn_is_ninety_degrees():
-    assert tilt((0.0, 0.0, 0.0, 1.0)) == 0.0
-    assert tilt((0.0, 0.0, math.sin(0.5), math.cos(0.5))) == pytest.approx(0.0, abs=1e-7)
+    assert tilt_of_quaternion((0.0, 0.0, 0.0, 1.0)) == 0.0
+    assert tilt_of_quaternion((0.0, 0.0, math.sin(0.5), math.cos(0.5))) == pytest.approx(
+        0.0, abs=1e-7)
     half = math.sqrt(0.5)
-    assert math.degrees(tilt((half, 0.0, 0.0, half))) == pytest.approx(90.0)
+    assert math.degrees(tilt_of_quaternion((half, 0.0, 0.0, half))) == pytest.approx(90.0)
 
 
 def test_weight_shift_trial_steps_the_coman_like_robot_with_its_analytic_ik():
@@ -118,7 +120,7 @@ def test_weight_shift_trial_steps_the_coman_like_robot_with_its_analytic_ik():
                    for r in trial.during('hold'))
         final = trial.readings[-1]
         assert final.left_foot.in_contact and final.right_foot.in_contact
-        assert len(trial.readings) == round(sum(d for _, d in other_robots.WEIGHT_SHIFT_PHASES)
+        assert len(trial.readings) == round(sum(d for _, d in WEIGHT_SHIFT_PHASES)
                                             / 0.02)
 
 
@@ -170,7 +172,7 @@ def test_stands_three_seconds_under_torque_control(robot):
     tilts, heights = [], []
     for _ in range(150):
         readings = sim.step(q)
-        tilts.append(math.degrees(tilt(readings.base.orientation)))
+        tilts.append(math.degrees(tilt_of_quaternion(readings.base.orientation)))
         heights.append(readings.base.position[2])
     assert max(tilts) < 3.0
     assert np.max(np.abs(np.array(heights) - start.base.position[2])) < 0.005
@@ -205,7 +207,7 @@ def test_contact_forces_balance_a_steady_push(robot):
     ground = np.mean([r.left_foot.ground_force + r.right_foot.ground_force for r in readings],
                      axis=0)
     assert ground[:2] == pytest.approx([-force, force], abs=0.4 * force)
-    assert math.degrees(tilt(readings[-1].base.orientation)) < 3.0
+    assert math.degrees(tilt_of_quaternion(readings[-1].base.orientation)) < 3.0
 
 
 @needs_extra

@@ -1,17 +1,18 @@
 """The definition of a withstood push and the bisection for the largest one."""
 import pytest
 
-from biped_mpc.errors import ConfigError
-from biped_mpc.model_walk import Push, run_walk, WalkSetup
-from biped_mpc.push_recovery import (
-    evaluate_push, largest_withstood_force, PushOutcome, WithstandCriteria)
 from biped_mpc.three_mass_model import three_mass_model
+from biped_sim.errors import ConfigError
+from biped_sim.external_push import ExternalPush
+from biped_sim.model_walk import run_walk, WalkSetup
+from biped_sim.push_recovery import (
+    evaluate_push, largest_withstood_force, PushOutcome, WithstandCriteria)
 
 MODEL = three_mass_model()
 
 
 def pushed_walk(reference, force):
-    push = Push((force, 0.0), 1.6, 0.1)
+    push = ExternalPush((force, 0.0, 0.0), duration=0.1, start_time=1.6)
     setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
                       polygon_margin=(0.005, 0.004))
     return run_walk(reference, setup), push

@@ -13,7 +13,8 @@ from biped_sim.camera_view import CameraView
 from biped_sim.errors import ConfigError, RobotModelError
 from biped_sim.external_push import ExternalPush
 from biped_sim.obstacles import BoxObstacle, DiscObstacle
-from biped_sim.pybullet_backend import MAX_SHAPES_PER_BODY, PyBulletBackend, PyBulletConfig
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.pybullet_scenery import MAX_SHAPES_PER_BODY
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain import generate_terrain, TerrainParams
 

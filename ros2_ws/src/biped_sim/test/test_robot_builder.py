@@ -1,4 +1,4 @@
-"""Tests of the URDF generator: primitive and composite inertias, principal axes, URDF text."""
+"""Tests of the URDF model and the COMAN-like generator: inertias, principal axes, URDF text."""
 
 import math
 import xml.etree.ElementTree as ElementTree
@@ -6,7 +6,8 @@ import xml.etree.ElementTree as ElementTree
 import numpy as np
 import pytest
 
-from biped_sim import robot_builder as rb
+from biped_sim import robot_builder
+from biped_sim import urdf_model as rb
 from biped_sim.errors import ConfigError
 
 
@@ -55,11 +56,12 @@ def test_principal_axes_reconstruct_the_tensor():
 
 
 def test_committed_urdf_matches_the_generator():
-    assert rb.COMAN_LIKE_URDF.read_text() == rb.build_coman_like().to_urdf()
+    urdf = robot_builder.COMAN_LIKE_URDF.read_text()
+    assert urdf == robot_builder.build_coman_like().to_urdf()
 
 
 def test_urdf_inertias_are_the_principal_moments():
-    root = ElementTree.fromstring(rb.build_coman_like().to_urdf())
+    root = ElementTree.fromstring(robot_builder.build_coman_like().to_urdf())
     for link in root.iter('link'):
         tensor = link.find('inertial/inertia').attrib
         assert tensor['ixy'] == tensor['ixz'] == tensor['iyz'] == '0'

@@ -8,6 +8,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
 from biped_sim.errors import ConfigError
 from biped_sim.robot_description import coman_like, COMAN_LIKE_NOMINAL_HIP_HEIGHT
 from biped_sim.robot_description import crouched_leg_angles
@@ -104,3 +105,61 @@ def test_description_validation(description):
         dataclasses.replace(description, sole_width=-0.1)
     with pytest.raises(ConfigError, match='nominal_joint_positions'):
         dataclasses.replace(description, nominal_joint_positions={'l_knee_joint': math.nan})
+
+
+def test_controller_model_is_the_yaml_robot_with_this_urdf(description):
+    model = description.controller_model
+    assert model == dataclasses.replace(load_robot_model(COMAN_LIKE_MODEL_FILE),
+                                        urdf_path=description.urdf_path)
+    assert model.leg_geometry == description.leg_geometry
+    assert model.leg_joint_names == description.leg_joint_names
+    with pytest.raises(ConfigError, match='controller_model'):
+        dataclasses.replace(description, sole_frames=('l_sole', 'l_sole'))
+
+
+def test_the_yaml_three_masses_are_the_urdf_masses_at_the_nominal_stance(description):
+    """Legs: the links below each hip yaw joint; torso: everything else (the paper's m_1..3).
+
+    The masses are the URDF's exactly; the heights, the pelvis height and the centre-of-mass
+    offset are rounded in the YAML (to 0.1 mm, within 0.3 %), so they are checked within 1 %.
+    """
+    model = description.controller_model
+    robot = pin.buildModelFromUrdf(description.urdf_path, pin.JointModelFreeFlyer())
+    data = robot.createData()
+    q = pin.neutral(robot)
+    for name, angle in description.nominal_joint_positions.items():
+        q[robot.joints[robot.getJointId(name)].idx_q] = angle
+    q[2] = model.pelvis_height
+    pin.forwardKinematics(robot, data, q)
+    pin.updateFramePlacements(robot, data)
+    for sole in description.sole_frames:
+        assert data.oMf[robot.getFrameId(sole)].translation[2] == pytest.approx(0.0, abs=1e-9)
+
+    def mass_and_height(joints):
+        mass = sum(robot.inertias[j].mass for j in joints)
+        com = sum(robot.inertias[j].mass * data.oMi[j].act(robot.inertias[j].lever)
+                  for j in joints) / mass
+        return mass, com[2]
+
+    legs = [[j for j in range(1, robot.njoints)
+             if robot.getJointId(f'{side}_hip_yaw_joint') in robot.supports[j]]
+            for side in ('l', 'r')]
+    torso = [j for j in range(1, robot.njoints) if j not in legs[0] + legs[1]]
+    masses = model.masses
+    for joints, mass, height in ((legs[0], masses.left_leg_mass, masses.left_leg_height),
+                                 (torso, masses.torso_mass, masses.torso_height),
+                                 (legs[1], masses.right_leg_mass, masses.right_leg_height)):
+        urdf_mass, urdf_height = mass_and_height(joints)
+        assert mass == pytest.approx(urdf_mass, rel=1e-9)
+        assert height == pytest.approx(urdf_height, rel=0.01)
+    com = pin.centerOfMass(robot, data, q)
+    assert model.com_offset[0] == pytest.approx(com[0], rel=0.01)
+    assert model.com_offset[1] == pytest.approx(com[1], abs=1e-9)
+
+
+def test_robots_load_by_name_from_the_catalogue():
+    from biped_sim.robot_catalogue import load_robot, ROBOTS
+    assert {'coman_like', 'g1', 'talos'} <= set(ROBOTS)
+    assert load_robot('coman_like').name == 'coman_like'
+    with pytest.raises(ConfigError, match='banana'):
+        load_robot('banana')

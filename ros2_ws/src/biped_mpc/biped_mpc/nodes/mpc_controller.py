@@ -17,6 +17,9 @@ after reference_wait of wall time without it.
 Safety: when the references are older than stale_timeout (the planner or reference generator
 died or lags), the controller holds a safe stance: both feet on the ground where they are and
 the hip between them, reported as HOLDING. Malformed messages are logged and skipped.
+The robot comes from the model file robot_description_file (biped_mpc.robot_model; the
+COMAN-like robot shipped with this package by default), its URDF for ik=pinocchio from
+urdf_file.
 """
 import dataclasses
 import math
@@ -31,38 +34,28 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, JointState
 
+from biped_mpc.controller_io import ControllerFeedback, STATUS_MPC_FALLBACK
+from biped_mpc.controller_params import (CONTROLLER_MPC_PARAMS, PELVIS_GROUND_TRUTH,
+                                         WalkingControllerParams)
 from biped_mpc.errors import BipedMpcError
-from biped_mpc.linear_mpc import LEG_OUTPUTS, MpcParams
+from biped_mpc.mpc_params import MpcParams
 from biped_mpc.nodes.latest_message_reader import LatestMessageReader
+from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
 from biped_mpc.state_estimator import EstimatorParams
-from biped_mpc.walking_controller import (COMAN_LIKE_MASSES, ControllerFeedback,
-                                          PELVIS_GROUND_TRUTH, quaternion_matrix,
-                                          STATUS_MPC_FALLBACK, WalkingController,
-                                          WalkingControllerParams)
-from biped_planner.footsteps import Footstep, LEFT, RIGHT
-from biped_planner.node_support.reference_messages import window_from_reference_msg
-from biped_planner.node_support.node_runner import run_node
+from biped_mpc.walking_controller import WalkingController
+from biped_planner.footsteps import Footstep
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.node_support.reference_messages import window_from_reference_msg
+from biped_planner.parameter_fields import field_specs
+from biped_planner.rotations import quaternion_from_yaw, quaternion_to_matrix
+from biped_planner.sides import LEFT, RIGHT
 from biped_planner.standing_reference import standing_window
 from biped_planner.walking_reference import ReferenceParams
-from biped_sim.robot_description import coman_like
 
-
-CONTROLLER_SPECS = {
-    'model': ('three_mass (the paper) or lipm (the baseline)', None),
-    'feedback': ('prediction (MPC\'s own prediction, pattern generator) or estimator (Kalman)',
-                 None),
-    'feedback_gain': ('blend of the Kalman estimate into the prediction', (0.0, 1.0)),
-    'pelvis_source': ('ground_truth (odom) or imu_kinematics (IMU + latched stance feet)', None),
-    'ik': ('analytic or pinocchio', None),
-    'pelvis_height': ('pelvis frame above the stance soles (m)', (0.05, 5.0)),
-    'com_offset': ('whole-body COM ahead/left of the pelvis (m)', None),
-    'stance_leg_projection': ('stance leg mass state projected on its latched sole', None),
-    'pelvis_velocity_gain': ('pelvis velocity servo gain', (0.0, 1.0)),
-    'tilt_gain': ('posture feedback against measured roll and pitch', (0.0, 5.0)),
-}
-
+MPC_FIELDS = field_specs(MpcParams)
+READ_AT_START = ('reference_wait', 'robot_description_file', 'urdf_file')
 
 SENSOR_POLL_PERIOD = 0.0005  # s of wall time between takes while a sensor is not in yet
 SENSOR_POLL_TIMEOUT = 0.1  # s of wall time after joint_states: then stop polling for the rest
@@ -91,7 +84,8 @@ def sole_poses_msg(output, stamp) -> PoseArray:
     for target in (output.left_foot_target, output.right_foot_target):
         pose = Pose()
         pose.position.x, pose.position.y, pose.position.z = (float(v) for v in target[:3])
-        pose.orientation.z, pose.orientation.w = math.sin(target[3] / 2), math.cos(target[3] / 2)
+        _, _, pose.orientation.z, pose.orientation.w = (
+            float(v) for v in quaternion_from_yaw(target[3]))
         msg.poses.append(pose)
     return msg
 
@@ -101,13 +95,16 @@ class MpcControllerNode(Node):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('mpc_controller', **kwargs)
-        self._robot = coman_like()
         declare_node_parameters(self, {
-            'solver': ('daqp', 'QP solver of the MPC', ('daqp', 'quadprog', 'casadi_qpoases',
-                                                         'casadi_osqp', 'osqp')),
-            # torso_relative: the library's default (WalkingController module docstring)
-            'leg_outputs': ('torso_relative', 'MPC leg outputs: leg masses minus half the torso'
-                            ' or the paper\'s absolute ones', LEG_OUTPUTS),
+            'robot_description_file': (str(COMAN_LIKE_MODEL_FILE), 'robot model file (YAML, '
+                                       'biped_mpc.robot_model): legs, masses, pelvis height',
+                                       None),
+            'urdf_file': ('', 'the robot\'s URDF, for ik pinocchio only', None),
+            'solver': (CONTROLLER_MPC_PARAMS.backend, MPC_FIELDS['backend'].description,
+                       MPC_FIELDS['backend'].choices),
+            'leg_outputs': (CONTROLLER_MPC_PARAMS.leg_outputs,
+                            MPC_FIELDS['leg_outputs'].description,
+                            MPC_FIELDS['leg_outputs'].choices),
             'contact_force': (15.0, 'foot normal force above which it is in contact (N)',
                               (0.0, 1000.0)),
             'stale_timeout': (0.3, 'references older than this make it hold a stance (s)',
@@ -117,10 +114,14 @@ class MpcControllerNode(Node):
             'foot_length': (0.2, 'sole length, for the standing stance (m)', (0.01, 1.0)),
             'foot_width': (0.1, 'sole width, for the standing stance (m)', (0.01, 1.0))})
         get = lambda name: self.get_parameter(name).value  # noqa: E731
+        self._robot = load_robot_model(get('robot_description_file'))
+        if get('urdf_file'):
+            self._robot = dataclasses.replace(self._robot, urdf_path=get('urdf_file'))
         self._params = declare_dataclass_parameters(
-            self, WalkingControllerParams(robot=self._robot), CONTROLLER_SPECS,
-            fixed={'robot': self._robot, 'masses': COMAN_LIKE_MASSES,
-                   'mpc': MpcParams(backend=get('solver'), leg_outputs=get('leg_outputs')),
+            self, WalkingControllerParams(robot=self._robot), {},
+            fixed={'robot': self._robot,
+                   'mpc': dataclasses.replace(CONTROLLER_MPC_PARAMS, backend=get('solver'),
+                                              leg_outputs=get('leg_outputs')),
                    'estimator': EstimatorParams()})
         self._controller = WalkingController(self._params)
         self._horizon = self._params.mpc.n_predict + 1
@@ -226,9 +227,10 @@ class MpcControllerNode(Node):
         self._try_cycle(force=True)
 
     def _on_set_parameters(self, parameters) -> SetParametersResult:
-        if any(p.name == 'reference_wait' for p in parameters):
+        fixed = [p.name for p in parameters if p.name in READ_AT_START]
+        if fixed:
             return SetParametersResult(successful=False,
-                                       reason='reference_wait is read at start only')
+                                       reason=f'{", ".join(fixed)} read at start only')
         return SetParametersResult(successful=True)
 
     def destroy_node(self) -> None:
@@ -250,7 +252,7 @@ class MpcControllerNode(Node):
             pose, twist = sensors['odom'].pose.pose, sensors['odom'].twist.twist
             q = pose.orientation
             # nav_msgs/Odometry gives the twist in the pelvis frame; the controller wants world
-            velocity = quaternion_matrix(np.array([q.x, q.y, q.z, q.w])) @ np.array(
+            velocity = quaternion_to_matrix(np.array([q.x, q.y, q.z, q.w])) @ np.array(
                 [twist.linear.x, twist.linear.y, twist.linear.z])
             return ControllerFeedback(
                 legs, (q.x, q.y, q.z, q.w), zmp, contacts,

@@ -5,6 +5,8 @@ from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import Imu, JointState
 
+from biped_planner.rotations import quaternion_to_matrix
+
 
 def joint_state_msg(joints, stamp) -> JointState:
     msg = JointState()
@@ -29,15 +31,6 @@ def imu_msg(imu, frame_id: str, stamp) -> Imu:
     return msg
 
 
-def rotation_matrix(q_xyzw) -> np.ndarray:
-    """Rotation matrix of a unit quaternion (x, y, z, w)."""
-    x, y, z, w = (float(v) for v in q_xyzw)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
 def odometry_msg(base, frame_id: str, child_frame_id: str, stamp) -> Odometry:
     """Ground-truth pose of the pelvis in frame_id and its twist in the pelvis frame
     (child_frame_id), as nav_msgs/Odometry specifies."""
@@ -49,7 +42,7 @@ def odometry_msg(base, frame_id: str, child_frame_id: str, stamp) -> Odometry:
     pose.position.x, pose.position.y, pose.position.z = (float(v) for v in base.position)
     (pose.orientation.x, pose.orientation.y, pose.orientation.z,
      pose.orientation.w) = (float(v) for v in base.orientation)
-    to_body = rotation_matrix(base.orientation).T
+    to_body = quaternion_to_matrix([float(v) for v in base.orientation]).T
     twist = msg.twist.twist
     twist.linear.x, twist.linear.y, twist.linear.z = (
         float(v) for v in to_body @ np.asarray(base.linear_velocity, dtype=float))

@@ -29,32 +29,58 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import Trigger
 
-from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.dataclass_parameters import declare_node_parameters
+from biped_planner.node_support.node_runner import run_node
+from biped_planner.parameter_fields import field_specs
+from biped_sim.camera_view import CameraView
+from biped_sim.closed_loop import ClosedLoopParams
 from biped_sim.errors import BipedSimError
 from biped_sim.external_push import ExternalPush
+from biped_sim.frame_recorder import FPS_RANGE
 from biped_sim.joint_servo import step_toward
 from biped_sim.nodes.conversions import (imu_msg, joint_state_msg, odometry_msg, point_msg,
                                          setpoints_from_joint_state, wrench_msg)
 from biped_sim.obstacles import boxes_from_occupied_cells
-from biped_sim.robot_description import coman_like
+from biped_sim.pybullet_config import PyBulletConfig
+from biped_sim.robot_catalogue import load_robot, ROBOTS
 from biped_sim.terrain import generate_terrain, TerrainParams
 
 LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                         reliability=ReliabilityPolicy.RELIABLE)
 MAX_PUSH_FORCE = 5000.0  # N: beyond any push the robot could feel; larger requests are errors
+BACKENDS = ('pybullet', 'model')
+
+
+def from_library(cls, field: str, default=None, description: str = None,
+                 transform=None) -> tuple:
+    """(default, description, range) of a node parameter that sets a library dataclass field.
+
+    The range is the field's own (biped_planner.parameter_fields), so the node cannot restate
+    it; default None takes the library's default.
+
+    :param transform: maps the field's bounds to the parameter's (a tile area to its side)
+    """
+    spec = field_specs(cls)[field]
+    bounds = spec.bounds
+    if transform is not None:
+        bounds = tuple(transform(b) for b in bounds)
+    value = cls.__dataclass_fields__[field].default if default is None else default
+    return value, description or spec.description, bounds
+
+
 SIMULATOR_PARAMETERS = {
     'backend': ('pybullet', 'physics: PyBullet humanoid or the three-mass model plant',
-                ('pybullet', 'model')),
-    'gui': (False, 'open the PyBullet GUI', None),
-    'control_mode': ('torque', 'joint control: torque (PD + gravity compensation) or position',
-                     ('torque', 'position')),
+                BACKENDS),
+    'robot': ('coman_like', 'the simulated humanoid (biped_sim.robot_catalogue)',
+              tuple(ROBOTS)),
+    'gui': from_library(PyBulletConfig, 'gui'),
+    'control_mode': from_library(PyBulletConfig, 'control_mode'),
     'control_period': (0.02, 'one controller cycle: sensor publication period (s)', (0.001, 1.0)),
-    'physics_step': (0.001, 'physics time step (s)', (1e-4, 0.02)),
-    'leg_kp': (2000.0, 'leg joint PD stiffness, capped per joint by its inertia (N m/rad)',
-               (0.0, 1e5)),
-    'leg_kd': (8.0, 'leg joint PD damping (N m s/rad)', (0.0, 1e3)),
-    'setpoint_parts': (4, 'parts of a period with interpolated setpoints (servo ramp)', (1, 20)),
+    'physics_step': from_library(PyBulletConfig, 'time_step'),
+    'leg_kp': from_library(PyBulletConfig, 'leg_kp', 2000.0),
+    'leg_kd': from_library(PyBulletConfig, 'leg_kd'),
+    'setpoint_parts': from_library(ClosedLoopParams, 'setpoint_interpolation', 4,
+                                   'parts of a period with interpolated setpoints (servo ramp)'),
     'lockstep': (True, 'physics waits for the command answering the last sensor time', None),
     'lockstep_timeout': (0.5, 'wall time without a command after which it steps anyway (s)',
                          (0.01, 60.0)),
@@ -65,23 +91,24 @@ SIMULATOR_PARAMETERS = {
     'start_yaw': (0.0, 'pelvis start heading (rad)', (-7.0, 7.0)),
     'frame_id': ('map', 'frame of odom, zmp and com', None),
     'terrain.kind': (0, 'terrain at start, the robot standing on it: 0 flat, 1 tiles', (0, 1)),
-    'terrain.side_length': (4.0, 'side of the square tiled area (m)', (0.05, 100.0)),
-    'terrain.origin_x': (-2.0, 'x of the area corner with the smallest coordinates (m)',
-                         (-1e4, 1e4)),
-    'terrain.origin_y': (-2.0, 'y of the area corner with the smallest coordinates (m)',
-                         (-1e4, 1e4)),
-    'terrain.tile_size': (0.2, 'side of a square tile (m): 0.1, 0.2, 0.25 in the paper',
-                          (0.01, 10.0)),
-    'terrain.min_height': (0.025, 'lowest tile top (m)', (0.0, 1.0)),
-    'terrain.max_height': (0.05, 'highest tile top (m)', (0.0, 1.0)),
-    'terrain.seed': (0, 'seed of the random tile heights', (0, 2 ** 31 - 1)),
+    'terrain.side_length': from_library(TerrainParams, 'side_length'),
+    'terrain.origin_x': from_library(TerrainParams, 'origin', -2.0, 'x of the area corner with '
+                                     'the smallest coordinates (m)'),
+    'terrain.origin_y': from_library(TerrainParams, 'origin', -2.0, 'y of the area corner with '
+                                     'the smallest coordinates (m)'),
+    'terrain.tile_size': from_library(TerrainParams, 'tile_area', 0.2, 'side of a square tile '
+                                      '(m): 0.1, 0.2, 0.25 in the paper', math.sqrt),
+    'terrain.min_height': from_library(TerrainParams, 'min_height'),
+    'terrain.max_height': from_library(TerrainParams, 'max_height'),
+    'terrain.seed': from_library(TerrainParams, 'seed'),
     'camera.frames_dir': ('', 'directory for PNG camera frames (pybullet); empty: off', None),
-    'camera.fps': (12.5, 'camera frames per second of sim time', (0.1, 100.0)),
-    'camera.width': (320, 'image width (pixels)', (16, 4096)),
-    'camera.height': (240, 'image height (pixels)', (16, 4096)),
-    'camera.distance': (2.5, 'camera distance from the pelvis (m)', (0.1, 100.0)),
-    'camera.yaw': (50.0, 'camera azimuth (deg)', (-360.0, 360.0)),
-    'camera.pitch': (-20.0, 'camera elevation, negative looks down (deg)', (-89.0, 89.0)),
+    'camera.fps': (12.5, 'camera frames per second of sim time', FPS_RANGE),
+    'camera.width': from_library(CameraView, 'width'),
+    'camera.height': from_library(CameraView, 'height'),
+    'camera.distance': from_library(CameraView, 'distance', 2.5,
+                                    'camera distance from the pelvis (m)'),
+    'camera.yaw': from_library(CameraView, 'yaw', description='camera azimuth (deg)'),
+    'camera.pitch': from_library(CameraView, 'pitch'),
 }
 
 
@@ -167,19 +194,22 @@ class SimulatorNode(Node):
     # --- set-up -----------------------------------------------------------------------------
     def _make_backend(self):
         name = self.get_parameter('backend').value
+        robot = load_robot(self.get_parameter('robot').value)
+        step = float(self.get_parameter('physics_step').value)
+        substeps = max(1, int(round(self._period / step)))
         if name == 'pybullet':
-            from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
-            step = float(self.get_parameter('physics_step').value)
+            from biped_sim.pybullet_backend import PyBulletBackend
             config = PyBulletConfig(gui=bool(self.get_parameter('gui').value), time_step=step,
-                                    control_substeps=max(1, int(round(self._period / step))),
+                                    control_substeps=substeps,
                                     control_mode=self.get_parameter('control_mode').value,
                                     leg_kp=float(self.get_parameter('leg_kp').value),
                                     leg_kd=float(self.get_parameter('leg_kd').value))
-            return PyBulletBackend(coman_like(), config)
+            return PyBulletBackend(robot, config)
         if name == 'model':
-            from biped_sim.model_plant_backend import ModelPlantBackend
-            return ModelPlantBackend(coman_like())
-        raise ValueError(f'backend {name!r} unknown: use pybullet or model')
+            from biped_sim.model_plant_backend import ModelPlantBackend, ModelPlantBackendParams
+            return ModelPlantBackend(robot, ModelPlantBackendParams(time_step=step,
+                                                                    control_substeps=substeps))
+        raise ValueError(f'backend {name!r} unknown: use one of {BACKENDS}')
 
     def _make_camera(self):
         """(FrameRecorder, CameraView) when camera.frames_dir is set, else None."""
@@ -188,7 +218,6 @@ class SimulatorNode(Node):
             return None
         if not hasattr(self._backend, 'render'):
             raise ValueError('camera frames need the pybullet backend')
-        from biped_sim.camera_view import CameraView
         from biped_sim.frame_recorder import FrameRecorder
         view = CameraView(width=int(get('camera.width')), height=int(get('camera.height')),
                           distance=float(get('camera.distance')), yaw=float(get('camera.yaw')),
@@ -200,7 +229,7 @@ class SimulatorNode(Node):
         return self._time_offset + self._readings.time
 
     def _nominal_setpoints(self) -> np.ndarray:
-        nominal = coman_like().nominal_joint_positions
+        nominal = self._backend.description.nominal_joint_positions
         return np.array([nominal.get(name, 0.0) for name in self._names])
 
     def _reset_robot(self):

@@ -1,0 +1,147 @@
+"""What the walking controller takes in and gives out each cycle, as plain numpy."""
+from dataclasses import dataclass
+from typing import Any, Optional
+
+import numpy as np
+
+from biped_mpc.controller_params import PELVIS_GROUND_TRUTH, PELVIS_IMU_KINEMATICS
+from biped_mpc.errors import InputError
+from biped_mpc.linear_model import N_PLANES
+from biped_mpc.validation import finite_vector
+
+# Bits of ControllerOutput.status; 0 means everything nominal.
+STATUS_OK = 0
+STATUS_MPC_FALLBACK = 1
+STATUS_MPC_ERROR = 2
+STATUS_REFERENCE_ERROR = 4
+STATUS_IK_CLIPPED = 8
+STATUS_IK_ERROR = 16
+
+
+@dataclass(frozen=True)
+class ControllerFeedback:
+    """What the controller knows about the robot at the start of a cycle (plain numpy).
+
+    :param leg_joint_positions: (12,) measured leg angles, the description's leg order (rad)
+    :param pelvis_orientation: (4,) pelvis orientation quaternion (x, y, z, w), from the ground
+        truth or the IMU (normalised here)
+    :param zmp: (2,) ZMP from the ankle F/T sensors (m); NaN when no foot is in contact
+    :param contacts: (2,) left and right foot contact flags of the F/T sensors
+    :param pelvis_position: (3,) pelvis position (m), or None when it is to be estimated from
+        the stance feet (pelvis_source 'imu_kinematics')
+    :param pelvis_linear_velocity: (3,) pelvis velocity (m/s) or None (diagnostic only)
+    :raises InputError: for wrong sizes, NaN or inf (NaN allowed in zmp only)
+    """
+
+    leg_joint_positions: np.ndarray
+    pelvis_orientation: np.ndarray
+    zmp: np.ndarray
+    contacts: tuple
+    pelvis_position: Optional[np.ndarray] = None
+    pelvis_linear_velocity: Optional[np.ndarray] = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, 'leg_joint_positions', finite_vector(
+            'ControllerFeedback.leg_joint_positions', self.leg_joint_positions, 12))
+        quaternion = finite_vector('ControllerFeedback.pelvis_orientation',
+                                   self.pelvis_orientation, 4)
+        norm = float(np.linalg.norm(quaternion))
+        if norm < 1e-6:
+            raise InputError(f'ControllerFeedback.pelvis_orientation = {quaternion.tolist()} '
+                             f'is not a rotation')
+        object.__setattr__(self, 'pelvis_orientation', quaternion / norm)
+        object.__setattr__(self, 'zmp', finite_vector('ControllerFeedback.zmp', self.zmp, 2,
+                                                      allow_nan=True))
+        contacts = tuple(bool(c) for c in np.asarray(self.contacts).reshape(-1))
+        if len(contacts) != 2:
+            raise InputError(f'ControllerFeedback.contacts must be 2 flags, got '
+                             f'{self.contacts!r}')
+        object.__setattr__(self, 'contacts', contacts)
+        for name, size in (('pelvis_position', 3), ('pelvis_linear_velocity', 3)):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, finite_vector(f'ControllerFeedback.{name}',
+                                                             getattr(self, name), size))
+
+    @classmethod
+    def from_readings(cls, readings, pelvis_source: str = PELVIS_GROUND_TRUTH,
+                      leg_joint_count: int = 12) -> 'ControllerFeedback':
+        """Build the feedback from simulator readings (duck typed biped_sim SensorReadings).
+
+        :param readings: object with joints.position (leg joints first), base, imu, zmp,
+            left_foot.in_contact and right_foot.in_contact
+        :param pelvis_source: 'ground_truth' (base pose and velocity) or 'imu_kinematics'
+            (IMU orientation, no position: the controller estimates it)
+        :param leg_joint_count: number of leading joint readings that are the legs (12)
+        :return: the feedback
+        :raises InputError: for an unknown source or bad readings
+        """
+        legs = np.asarray(readings.joints.position, dtype=float)[:leg_joint_count]
+        contacts = (readings.left_foot.in_contact, readings.right_foot.in_contact)
+        if pelvis_source == PELVIS_GROUND_TRUTH:
+            return cls(legs, readings.base.orientation, readings.zmp, contacts,
+                       readings.base.position, readings.base.linear_velocity)
+        if pelvis_source == PELVIS_IMU_KINEMATICS:
+            return cls(legs, readings.imu.orientation, readings.zmp, contacts)
+        raise InputError(f'pelvis_source must be {PELVIS_GROUND_TRUTH!r} or '
+                         f'{PELVIS_IMU_KINEMATICS!r}, got {pelvis_source!r}')
+
+
+@dataclass(frozen=True)
+class ControllerOutput:
+    """Joint setpoints of one cycle and diagnostics (planes x then y on the leading axis).
+
+    :param joint_setpoints: (12,) leg joint angles for the next period (rad)
+    :param joint_velocities: (12,) setpoint speeds over the period (rad/s), feed-forward
+    :param status: STATUS_* bits, STATUS_OK when nominal
+    :param mpc_status: QP status per plane (QpStatus values)
+    :param solve_time: time in the QP solver, both planes (s)
+    :param state: (2, 9) the state the MPC started from
+    :param kalman_state: (2, 9) the Kalman estimate x(k|k)
+    :param zmp_measured: (2,) F/T ZMP (NaN without contact) (m)
+    :param zmp_estimated: (2,) ZMP of the state the MPC used (m)
+    :param zmp_predicted: (2,) ZMP the MPC predicts at t + Ts (m)
+    :param measured_outputs: (2, 3) measured left leg mass, right leg mass, ZMP (m)
+    :param ik_status: (left, right) IK_REACHABLE or IK_CLIPPED
+    :param pelvis_target: (3,) pelvis position target: torso mass minus the COM offset (m)
+    :param pelvis_command: (3,) the pelvis position the IK used: the target moved by the
+        pelvis servo (m)
+    :param hip_target: (2,) model hip (torso mass) target (m)
+    :param left_foot_target: (4,) left sole x, y, z (m), yaw (rad)
+    :param right_foot_target: (4,) right sole x, y, z (m), yaw (rad)
+    :param pelvis_position: (3,) the pelvis position the controller used (measured/estimated)
+    :param stance: (left, right) feet latched on the ground
+    :param next_state: (2, 9) the commanded state at t + Ts whose masses give the targets
+    :param mpc_result: the MPC's result (plan, predictions), None when the MPC did not run
+    """
+
+    joint_setpoints: np.ndarray
+    joint_velocities: np.ndarray
+    status: int
+    mpc_status: tuple
+    solve_time: float
+    state: np.ndarray
+    kalman_state: np.ndarray
+    zmp_measured: np.ndarray
+    zmp_estimated: np.ndarray
+    zmp_predicted: np.ndarray
+    measured_outputs: np.ndarray
+    ik_status: tuple
+    pelvis_target: np.ndarray
+    pelvis_command: np.ndarray
+    hip_target: np.ndarray
+    left_foot_target: np.ndarray
+    right_foot_target: np.ndarray
+    pelvis_position: np.ndarray
+    stance: tuple
+    next_state: np.ndarray
+    mpc_result: Any = None
+
+    @property
+    def cost(self) -> np.ndarray:
+        """The paper's cost J per plane, NaN for a plane that fell back (computed on access).
+
+        :return: (2,) costs
+        """
+        if self.mpc_result is None:
+            return np.full(N_PLANES, np.nan)
+        return np.asarray(self.mpc_result.cost, dtype=float)
