@@ -1,0 +1,247 @@
+"""One stabilizer cycle between the MPC and the IK: the balance modules wired together."""
+from dataclasses import dataclass, field
+import math
+from typing import Optional, Tuple
+
+import numpy as np
+
+from biped_mpc.balance.dcm_feedback import (
+    convex_hull, DcmFeedback, DcmFeedbackParams, rectangle_vertices)
+from biped_mpc.balance.foot_damping import FootDamping, FootDampingParams
+from biped_mpc.balance.foot_force_difference import (
+    FootForceDifference, FootForceDifferenceParams)
+from biped_mpc.balance.ft_filter import cop_of_feet, FootWrench
+from biped_mpc.balance.vertical_drift import VerticalDrift, VerticalDriftParams
+from biped_mpc.balance.wrench_distribution import (
+    DistributionStatus, WrenchDistributionParams, WrenchDistributor)
+from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.validation import finite_array
+from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.rotations import rotation_z
+from biped_planner.sides import LEFT, RIGHT, SIDES, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
+
+
+@dataclass(frozen=True)
+class StabilizerParams:
+    """The robot's mass and each module's parameters (see Stabilizer)."""
+
+    mass: float = parameter(30.95, 'total mass of the robot (kg)', low=0.1, high=1000.0)
+    dcm: DcmFeedbackParams = field(default_factory=DcmFeedbackParams)
+    distribution: WrenchDistributionParams = field(default_factory=WrenchDistributionParams)
+    damping: FootDampingParams = field(default_factory=FootDampingParams)
+    force_difference: FootForceDifferenceParams = field(
+        default_factory=FootForceDifferenceParams)
+    vertical_drift: VerticalDriftParams = field(default_factory=VerticalDriftParams)
+
+    def __post_init__(self) -> None:
+        validate_fields(self, ConfigError)
+        for name, kind in (('dcm', DcmFeedbackParams),
+                           ('distribution', WrenchDistributionParams),
+                           ('damping', FootDampingParams),
+                           ('force_difference', FootForceDifferenceParams),
+                           ('vertical_drift', VerticalDriftParams)):
+            if not isinstance(getattr(self, name), kind):
+                raise ConfigError(f'StabilizerParams.{name} must be a {kind.__name__}, got '
+                                  f'{getattr(self, name)!r}')
+
+
+@dataclass(frozen=True)
+class StabilizerReference:
+    """What the MPC asks for this cycle.
+
+    :param zmp: (2,) reference ZMP p_ref (m)
+    :param dcm: (2,) reference DCM xi_ref = c_ref + c_ref_dot / omega (m)
+    :param mean_sole_height: reference mean sole height relative to the pelvis (m); None
+        switches the vertical drift compensation off for the cycle
+    """
+
+    zmp: np.ndarray
+    dcm: np.ndarray
+    mean_sole_height: Optional[float] = None
+
+
+@dataclass(frozen=True)
+class StabilizerMeasurement:
+    """What the robot measures this cycle.
+
+    :param com: (3,) estimated centre of mass (m)
+    :param dcm: (2,) estimated DCM (m)
+    :param wrenches: (left, right) ft_filter.FootWrench of each foot, torques about the sole
+        centres
+    :param contacts: (left, right) touchdown_detector states
+    :param feet_positions: (2, 3) measured sole centres (m)
+    :param feet_yaws: (2,) measured sole headings (rad)
+    :param mean_sole_height: measured mean sole height relative to the pelvis (m), or None
+    """
+
+    com: np.ndarray
+    dcm: np.ndarray
+    wrenches: Tuple[FootWrench, FootWrench]
+    contacts: Tuple[bool, bool]
+    feet_positions: np.ndarray
+    feet_yaws: np.ndarray
+    mean_sole_height: Optional[float] = None
+
+
+@dataclass(frozen=True)
+class StabilizerDiagnostics:
+    """What the node can publish about a cycle.
+
+    :param measured_zmp: (2,) CoP of the feet in contact (m); NaN in the air
+    :param zmp_error: (2,) desired - measured ZMP (m)
+    :param dcm_error: (2,) xi_ref - xi (m)
+    :param dcm_integral: (2,) the DCM error integral (m s)
+    :param zmp_clamped: the desired ZMP was moved into the support polygon
+    :param torque_errors: (2, 2) measured - desired roll, pitch ground torques per side (N m)
+    :param force_difference_error: (f_L - f_R) - (f_L_des - f_R_des) (N)
+    :param contacts: (left, right) contact states used
+    :param in_the_air: no foot in contact: only the DCM feedback ran
+    :param distribution_status: the wrench distribution's status (None in the air)
+    """
+
+    measured_zmp: np.ndarray
+    zmp_error: np.ndarray
+    dcm_error: np.ndarray
+    dcm_integral: np.ndarray
+    zmp_clamped: bool
+    torque_errors: np.ndarray
+    force_difference_error: float
+    contacts: Tuple[bool, bool]
+    in_the_air: bool
+    distribution_status: Optional[DistributionStatus]
+
+
+@dataclass(frozen=True)
+class StabilizerOutput:
+    """The reference modifications for the IK.
+
+    :param zmp: (2,) desired net ZMP (m)
+    :param wrenches: (2, 6) desired ground wrench per side, world frame, about the sole centre
+    :param local_wrenches: (2, 6) the same in each sole frame
+    :param ankle_offsets: (2, 2) roll and pitch offsets of each sole orientation target (rad)
+    :param vertical_offsets: (2,) offsets of each sole height target (m)
+    :param diagnostics: errors and states of the cycle
+    """
+
+    zmp: np.ndarray
+    wrenches: np.ndarray
+    local_wrenches: np.ndarray
+    ankle_offsets: np.ndarray
+    vertical_offsets: np.ndarray
+    diagnostics: StabilizerDiagnostics
+
+
+class Stabilizer:
+    """DCM feedback -> wrench distribution -> foot damping, force difference, drift.
+
+    Data flow of one control cycle (Kajita 2010; lipm_walking_controller's Stabilizer::run):
+
+    1. upstream, per foot: ft_filter.FootWrenchFilter (inertia removed, low-pass) and
+       touchdown_detector.TouchdownDetector (contact states); swing_landing.SwingLanding gives
+       the swing foot's height target and the timing events, next to this class;
+    2. dcm_feedback: desired ZMP from the DCM error, clamped to the convex hull of the soles
+       in contact shrunk by the distribution's cop_margin (its integral held in the air);
+    3. desired net wrench of the LIPM through that ZMP: f = m (omega^2 (c - p_d), g), zero
+       moment about p_d on the ground (mean height of the soles in contact);
+    4. wrench_distribution over the feet in contact (both, one, or none in the air);
+    5. foot_damping per foot on the measured - desired sole torques (offsets released when
+       the foot is off the ground);
+    6. foot_force_difference in double support on the normal forces, and vertical_drift on
+       the mean sole height; vertical offsets per side = +-dz/2 + the common drift offset.
+
+    The outputs are modifications of the IK's references: the ZMP and wrenches are targets
+    (and diagnostics), the ankle and vertical offsets are added to the sole pose targets.
+    """
+
+    def __init__(self, params: StabilizerParams = StabilizerParams()) -> None:
+        """Create the modules.
+
+        :param params: the robot's mass and the modules' parameters
+        """
+        self.params = params
+        self.dcm_feedback = DcmFeedback(params.dcm)
+        self.distributor = WrenchDistributor(params.distribution)
+        self.damping = (FootDamping(params.damping), FootDamping(params.damping))
+        self.force_difference = FootForceDifference(params.force_difference)
+        self.vertical_drift = VerticalDrift(params.vertical_drift)
+
+    def reset(self) -> None:
+        """Zero every integrator (DCM integral, ankle and vertical offsets)."""
+        self.dcm_feedback.reset()
+        for damping in self.damping:
+            damping.reset()
+        self.force_difference.reset()
+        self.vertical_drift.reset()
+
+    def update(self, dt: float, reference: StabilizerReference,
+               measurement: StabilizerMeasurement) -> StabilizerOutput:
+        """One control cycle.
+
+        :param dt: control period (s), > 0
+        :param reference: the MPC's ZMP and DCM references
+        :param measurement: estimated state, filtered wrenches, contacts, sole poses
+        :return: the reference modifications and the diagnostics
+        :raises InputError: for a non-finite or misshaped input or dt <= 0
+        """
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
+            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        com = finite_array('com', measurement.com, (3,))
+        positions = finite_array('feet_positions', measurement.feet_positions, (2, 3))
+        yaws = finite_array('feet_yaws', measurement.feet_yaws, (2,))
+        contacts = tuple(bool(c) for c in measurement.contacts)
+        if len(contacts) != 2 or len(measurement.wrenches) != 2:
+            raise InputError('contacts and wrenches must have one entry per foot')
+        touching = [side for side in SIDES if contacts[side]]
+        in_the_air = not touching
+        rotations = np.array([rotation_z(yaw) for yaw in yaws])
+        p = self.params
+        polygon = None
+        if touching:
+            shrink = 2.0 * p.distribution.cop_margin
+            polygon = convex_hull(np.vstack([rectangle_vertices(
+                positions[side], yaws[side], p.distribution.sole_length - shrink,
+                p.distribution.sole_width - shrink) for side in touching]))
+        dcm = self.dcm_feedback.update(dt, reference.dcm, measurement.dcm, reference.zmp,
+                                       polygon, in_the_air)
+
+        wrenches, local = np.zeros((2, 6)), np.zeros((2, 6))
+        status = None
+        measured_zmp = np.full(2, np.nan)
+        if touching:
+            ground = float(np.mean(positions[touching, 2]))
+            point = np.array([dcm.zmp[0], dcm.zmp[1], ground])
+            omega_squared = p.dcm.omega ** 2
+            force = p.mass * np.array([omega_squared * (com[0] - dcm.zmp[0]),
+                                       omega_squared * (com[1] - dcm.zmp[1]), p.dcm.gravity])
+            support = (SUPPORT_DOUBLE if len(touching) == 2
+                       else SUPPORT_LEFT if touching[0] == LEFT else SUPPORT_RIGHT)
+            distribution = self.distributor.update(support, force, np.zeros(3), point,
+                                                   positions, rotations)
+            wrenches, local, status = (distribution.wrenches, distribution.local_wrenches,
+                                       distribution.status)
+            measured_zmp = cop_of_feet(
+                [measurement.wrenches[s].force for s in touching],
+                [measurement.wrenches[s].torque for s in touching], positions[touching],
+                point)[:2]
+
+        ankle_offsets, torque_errors = np.zeros((2, 2)), np.zeros((2, 2))
+        for side in SIDES:
+            result = self.damping[side].update(dt, contacts[side], local[side, 3:5],
+                                               measurement.wrenches[side].local_torque[:2])
+            ankle_offsets[side], torque_errors[side] = result.offset, result.torque_error
+        double = len(touching) == 2
+        difference = self.force_difference.update(
+            dt, double, local[:, 2], [measurement.wrenches[LEFT].normal_force,
+                                      measurement.wrenches[RIGHT].normal_force])
+        drift_active = double and None not in (reference.mean_sole_height,
+                                               measurement.mean_sole_height)
+        drift = self.vertical_drift.update(
+            dt, drift_active, reference.mean_sole_height if drift_active else 0.0,
+            measurement.mean_sole_height if drift_active else 0.0)
+        vertical = difference.offsets + drift.offset
+        diagnostics = StabilizerDiagnostics(
+            measured_zmp, dcm.zmp - measured_zmp, dcm.dcm_error, dcm.integral, dcm.clamped,
+            torque_errors, difference.error, (contacts[LEFT], contacts[RIGHT]), in_the_air,
+            status)
+        return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics)
+

@@ -1,0 +1,123 @@
+"""Stabilizer composition: a few cycles standing, with imposed errors, and their signs."""
+import numpy as np
+import pytest
+
+from biped_mpc.balance.ft_filter import FootWrench
+from biped_mpc.balance.stabilizer import (
+    Stabilizer, StabilizerMeasurement, StabilizerParams, StabilizerReference)
+from biped_mpc.balance.wrench_distribution import DistributionStatus
+from biped_mpc.errors import ConfigError, InputError
+from biped_planner.sides import LEFT, RIGHT
+
+DT = 0.02
+MASS = 30.95
+FEET = np.array([[0.0, 0.1, 0.0], [0.0, -0.1, 0.0]])
+
+
+def foot_wrench(normal, cop_local, position):
+    """A flat foot (yaw 0) loaded with normal N at cop_local (x, y) from its sole centre."""
+    torque = np.array([cop_local[1] * normal, -cop_local[0] * normal, 0.0])
+    force = np.array([0.0, 0.0, normal])
+    cop = np.array([position[0] + cop_local[0], position[1] + cop_local[1], position[2]])
+    return FootWrench(force, torque, force, torque, float(normal), cop, force, torque)
+
+
+def measurement(normals=(MASS * 9.81 / 2,) * 2, cops=((0.0, 0.0), (0.0, 0.0)),
+                contacts=(True, True), dcm=(0.0, 0.0), heights=None):
+    wrenches = tuple(foot_wrench(normals[s], cops[s], FEET[s]) for s in (LEFT, RIGHT))
+    return StabilizerMeasurement(np.array([dcm[0], dcm[1], 0.497]), np.array(dcm), wrenches,
+                                 contacts, FEET, np.zeros(2), heights)
+
+
+REFERENCE = StabilizerReference(np.zeros(2), np.zeros(2))
+
+
+def run(stabilizer, cycles, reference=REFERENCE, **kwargs):
+    for _ in range(cycles):
+        output = stabilizer.update(DT, reference, measurement(**kwargs))
+    return output
+
+
+def test_nominal_standing_changes_nothing():
+    output = run(Stabilizer(), 10)
+    np.testing.assert_allclose(output.zmp, [0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(output.wrenches[:, 2], MASS * 9.81 / 2, rtol=1e-4)
+    np.testing.assert_allclose(output.ankle_offsets, 0.0, atol=1e-5)
+    np.testing.assert_allclose(output.vertical_offsets, 0.0, atol=1e-6)
+    diagnostics = output.diagnostics
+    assert diagnostics.distribution_status == DistributionStatus.OK
+    np.testing.assert_allclose(diagnostics.measured_zmp, [0.0, 0.0], atol=1e-12)
+    assert diagnostics.contacts == (True, True) and not diagnostics.in_the_air
+
+
+def test_pressure_on_the_heels_pitches_the_soles_toes_down():
+    output = run(Stabilizer(), 10, cops=((-0.02, 0.0), (-0.02, 0.0)))
+    np.testing.assert_allclose(output.diagnostics.zmp_error, [0.02, 0.0], atol=1e-9)
+    # measured tau_y = -x_cop f_z > desired 0: positive pitch lifts the heel (toes press)
+    assert np.all(output.ankle_offsets[:, 1] > 0.0)
+    np.testing.assert_allclose(output.ankle_offsets[:, 0], 0.0, atol=1e-5)
+    assert np.all(output.diagnostics.torque_errors[:, 1] > 0.0)
+
+
+def test_pressure_on_the_outer_edges_rolls_the_soles_outwards_up():
+    output = run(Stabilizer(), 10, cops=((0.0, 0.03), (0.0, -0.03)))
+    assert output.ankle_offsets[LEFT, 0] > 0.0 > output.ankle_offsets[RIGHT, 0]
+
+
+def test_dcm_ahead_moves_the_zmp_and_the_feet_cops_forward():
+    output = run(Stabilizer(), 1, dcm=(0.01, 0.0))
+    assert output.zmp[0] > 0.01
+    assert np.all(output.local_wrenches[:, 4] < 0.0)  # tau_y = -x_cop f_z
+    # the horizontal force of the LIPM pulls the COM back over the ZMP
+    assert output.wrenches[:, 0].sum() < 0.0
+
+
+def test_left_foot_overloaded_is_lifted_relative_to_the_right():
+    weight = MASS * 9.81
+    output = run(Stabilizer(), 5, normals=(0.65 * weight, 0.35 * weight))
+    assert output.diagnostics.force_difference_error > 0.0
+    assert output.vertical_offsets[LEFT] > 0.0 > output.vertical_offsets[RIGHT]
+    assert output.vertical_offsets[LEFT] == pytest.approx(-output.vertical_offsets[RIGHT])
+
+
+def test_vertical_drift_raises_both_feet_when_the_legs_sag():
+    reference = StabilizerReference(np.zeros(2), np.zeros(2), mean_sole_height=-0.54)
+    output = run(Stabilizer(), 5, reference, heights=-0.55)
+    np.testing.assert_allclose(output.vertical_offsets, 5 * DT * 1.0 * 0.01, rtol=1e-3)
+
+
+def test_single_support_gives_everything_to_the_stance_foot():
+    stabilizer = Stabilizer()
+    run(stabilizer, 10, cops=((-0.02, 0.0), (-0.02, 0.0)))
+    assert stabilizer.damping[RIGHT].offset[1] > 0.0
+    output = run(stabilizer, 10, normals=(MASS * 9.81, 0.0), cops=((0.0, 0.0), (0.0, 0.0)),
+                 contacts=(True, False), dcm=(0.0, 0.1))
+    np.testing.assert_array_equal(output.wrenches[RIGHT], 0.0)
+    np.testing.assert_allclose(output.wrenches[LEFT, 2], MASS * 9.81, rtol=1e-3)
+    np.testing.assert_array_equal(output.ankle_offsets[RIGHT], 0.0)  # released at 1 rad/s
+    assert output.diagnostics.contacts == (True, False)
+
+
+def test_in_the_air_only_the_dcm_feedback_runs():
+    stabilizer = Stabilizer()
+    run(stabilizer, 3, dcm=(0.01, 0.0))
+    integral = stabilizer.dcm_feedback.integral
+    output = run(stabilizer, 3, contacts=(False, False), dcm=(0.01, 0.0))
+    np.testing.assert_array_equal(stabilizer.dcm_feedback.integral, integral)
+    np.testing.assert_array_equal(output.wrenches, 0.0)
+    assert output.diagnostics.in_the_air and output.diagnostics.distribution_status is None
+    stabilizer.reset()
+    np.testing.assert_array_equal(stabilizer.dcm_feedback.integral, [0.0, 0.0])
+
+
+def test_bad_values_are_refused():
+    with pytest.raises(ConfigError):
+        StabilizerParams(mass=0.0)
+    with pytest.raises(ConfigError):
+        StabilizerParams(dcm=None)
+    with pytest.raises(InputError):
+        Stabilizer().update(0.0, REFERENCE, measurement())
+    bad = StabilizerMeasurement(np.zeros(3), np.zeros(2), measurement().wrenches, (True,),
+                                FEET, np.zeros(2))
+    with pytest.raises(InputError):
+        Stabilizer().update(DT, REFERENCE, bad)

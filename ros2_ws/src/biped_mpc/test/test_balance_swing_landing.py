@@ -1,0 +1,105 @@
+"""Swing landing: late contact at the bounded speed, early contact freeze, missed ground."""
+import math
+
+import numpy as np
+import pytest
+
+from biped_mpc.balance.swing_landing import (
+    FAILED, LANDED, MISSED, RESUME, SEEKING, SHRINK, STRETCH, SupportTimingEvent, SwingLanding,
+    SwingLandingParams, SWINGING)
+from biped_mpc.balance.touchdown_detector import TouchdownDetector, TouchdownParams
+from biped_mpc.errors import ConfigError, InputError
+
+DT = 0.005
+LANDING_TIME = 0.4
+
+
+def planned_height(t):
+    """A 4 cm swing landing at height 0 at LANDING_TIME."""
+    return 0.04 * math.sin(math.pi * min(t / LANDING_TIME, 1.0))
+
+
+def walk(landing, ground, duration=1.0, stiffness=2e4):
+    """A stiff foot following its target; the ground pushes back once the target is below it.
+
+    The sole sits at max(target, ground), the normal force is stiffness times the penetration
+    of the target; the detector has a 10 ms dwell.
+    """
+    detector = TouchdownDetector(TouchdownParams(dwell_time=0.01), in_contact=False)
+    landing.reset(LANDING_TIME, 0.0)
+    target = planned_height(0.0)
+    log = []
+    for k in range(int(round(duration / DT))):
+        t = k * DT
+        measured = max(target, ground)
+        state = detector.update(t, stiffness * max(ground - target, 0.0), min(t / LANDING_TIME,
+                                                                                 1.0))
+        result = landing.update(t, planned_height(t), state.in_contact, measured)
+        target = result.height
+        log.append((t, result))
+    return log
+
+
+def events(log):
+    return [(r.event.kind, r.event.t) for _, r in log if r.event is not None]
+
+
+def test_late_contact_descends_at_the_bounded_speed_and_stops_at_contact():
+    speed = 0.2
+    log = walk(SwingLanding(SwingLandingParams(descent_speed=speed)), ground=-0.03)
+    seeking = [(t, r.height) for t, r in log if r.mode == SEEKING]
+    assert seeking
+    for t, height in seeking:
+        assert height == pytest.approx(-speed * (t - LANDING_TIME), abs=1e-12)
+    kinds = events(log)
+    assert kinds[0] == (STRETCH, LANDING_TIME)
+    assert kinds[1][0] == RESUME
+    # the ground is reached at 0.4 + 0.03 / 0.2 s; the force passes 50 N 0.0025 m deeper
+    contact = LANDING_TIME + 0.03 / speed
+    assert contact < kinds[1][1] < contact + 0.0025 / speed + 0.01 + 2 * DT
+    landed = [r for _, r in log if r.mode == LANDED]
+    assert len({r.height for r in landed}) == 1
+    assert landed[0].height == pytest.approx(-0.03)
+    assert not any(r.failed for _, r in log)
+
+
+def test_early_contact_freezes_the_height_where_the_ground_was_met():
+    log = walk(SwingLanding(), ground=0.02)
+    kinds = events(log)
+    assert len(kinds) == 1 and kinds[0][0] == SHRINK and kinds[0][1] < LANDING_TIME
+    after = [r for t, r in log if t >= kinds[0][1]]
+    assert all(r.mode == LANDED and r.height == pytest.approx(0.02) for r in after)
+    assert all(r.extra_depth == 0.0 for r in after)
+
+
+def test_missing_ground_reaches_the_max_depth_and_reports_failure():
+    params = SwingLandingParams(descent_speed=0.15, max_extra_depth=0.06)
+    log = walk(SwingLanding(params), ground=-1.0)
+    kinds = events(log)
+    assert kinds == [(STRETCH, LANDING_TIME), (MISSED, pytest.approx(LANDING_TIME + 0.4))]
+    final = log[-1][1]
+    assert final.failed and final.mode == FAILED
+    assert final.height == pytest.approx(-0.06) and final.extra_depth == pytest.approx(0.06)
+    depths = np.array([r.extra_depth for _, r in log])
+    assert np.all(np.diff(depths) <= 0.15 * DT + 1e-12)
+
+
+def test_contact_on_time_raises_no_event():
+    landing = SwingLanding()
+    landing.reset(LANDING_TIME, 0.0)
+    assert landing.update(0.3, 0.01, False, 0.01).mode == SWINGING
+    result = landing.update(LANDING_TIME, 0.0, True, 0.0)
+    assert result.event is None and result.mode == LANDED
+
+
+def test_bad_values_are_refused():
+    with pytest.raises(ConfigError):
+        SwingLandingParams(descent_speed=0.0)
+    with pytest.raises(ConfigError):
+        SwingLandingParams(max_extra_depth=-0.01)
+    with pytest.raises(InputError):
+        SupportTimingEvent('late', 0.0)
+    with pytest.raises(InputError):
+        SwingLanding().update(0.0, math.nan, False, 0.0)
+    with pytest.raises(InputError):
+        SwingLanding().reset(math.nan, 0.0)
