@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One idempotent setup step: .venv with pinned dependencies, the ROS wheels' CMake files patched,
-# the colcon workspace built, and a .pth that makes the workspace importable without sourcing.
+# the colcon workspace built, a .pth that makes the workspace importable without sourcing, and the
+# scripts' package biped_tools linked into the venv.
 # Each stage runs only when its inputs changed, so a second run takes a few seconds.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -88,4 +89,7 @@ sed -e "s|@INSTALL@|$WS/install|" -e "s|@PACKAGES@|[$packages]|" \
   "$ROOT/scripts/setup/workspace_env.py.in" > "$site_packages/biped_stack_env.py"
 # Sorts before ros_wheels_bootstrapper.pth, which re-executes Python with the library path.
 echo 'import biped_stack_env' > "$site_packages/biped_stack_env.pth"
-log "ready: $VENV/bin/python has rclpy, biped_msgs and the biped packages"
+# The scripts' shared package, linked like an editable install: `import biped_tools` works in
+# every Python of the venv, and only that name is added (not every script in scripts/).
+ln -sfn "$ROOT/scripts/biped_tools" "$site_packages/biped_tools"
+log "ready: $VENV/bin/python has rclpy, biped_msgs, the biped packages and biped_tools"

@@ -1,14 +1,12 @@
 """Fixtures for node and graph tests: own rclpy context per test, own ROS_DOMAIN_ID per worker,
 discovery on localhost only, and real processes that are always torn down."""
 import os
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from ros_harness import domain_id_for_worker, new_context, ProcessGroup  # noqa: E402
+# pytest puts this directory (no __init__.py: rootdir-relative "prepend" import mode) on sys.path
+# before it imports this file, so the harness imports as a top-level module.
+from ros_harness import domain_id_for_worker, new_context, ProcessGroup
 
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_DOMAIN_ID'] = str(domain_id_for_worker())

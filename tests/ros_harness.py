@@ -121,8 +121,13 @@ class SimClock:
         self.executor = executor
         self.t = 100.0
 
-    def advance(self, seconds: float, dt: float = 0.005) -> None:
+    def advance(self, seconds: float, dt: float = 0.005, pace: Optional[float] = None) -> None:
+        """:param pace: at most this many simulated seconds per wall second (None: as fast as
+            possible), for nodes that also time on the wall clock"""
+        t0, wall0 = self.t, time.monotonic()
         for _ in range(int(round(seconds / dt))):
+            while pace is not None and self.t - t0 > pace * (time.monotonic() - wall0):
+                self.executor.spin_once(timeout_sec=0.002)
             self.t += dt
             sec = int(self.t)
             self.publisher.publish(Clock(clock=Time(sec=sec, nanosec=int((self.t - sec) * 1e9))))

@@ -14,10 +14,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.serialization import deserialize_message
 import yaml
 
+from biped_tools import recording
 from ros_harness import PYTHON, REPO, ros_environment, spin_until, wait_for_subscribers
-
-sys.path.insert(0, str(REPO / 'scripts'))
-import record  # noqa: E402
 
 RECORD = str(REPO / 'scripts' / 'record.py')
 BIPED_SHARE = REPO / 'ros2_ws' / 'install' / 'biped_msgs' / 'share' / 'biped_msgs' / 'msg'
@@ -91,24 +89,24 @@ def topic_metadata(path: Path) -> dict:
 @pytest.mark.parametrize('type_name', sorted(f'biped_msgs/msg/{p.stem}'
                                              for p in BIPED_SHARE.glob('*.json')))
 def test_rosbags_type_hash_equals_the_rosidl_hash_of_every_biped_type(type_name):
-    assert record.TypeRegistry().rihs01(type_name) == rosidl_hash(type_name, BIPED_SHARE)
+    assert recording.TypeRegistry().rihs01(type_name) == rosidl_hash(type_name, BIPED_SHARE)
 
 
 def test_rosbags_type_hash_equals_the_rosidl_hash_of_a_standard_type():
     share = Path(sys.prefix) / 'share' / 'geometry_msgs' / 'msg'
-    assert record.TypeRegistry().rihs01('geometry_msgs/msg/Twist') == \
+    assert recording.TypeRegistry().rihs01('geometry_msgs/msg/Twist') == \
         rosidl_hash('geometry_msgs/msg/Twist', share)
 
 
 @pytest.mark.parametrize('call, words', [
-    (lambda: record.import_message_class('nopkg/msg/Nope'), "unknown type 'nopkg/msg/Nope'"),
-    (lambda: record.import_message_class('biped_msgs/msg/Nope'), 'not installed'),
-    (lambda: record.import_message_class('just_a_name'), 'expected package/msg/Type'),
-    (lambda: record.TypeRegistry(prefixes=[]).ensure('biped_msgs/msg/WalkingState'),
+    (lambda: recording.import_message_class('nopkg/msg/Nope'), "unknown type 'nopkg/msg/Nope'"),
+    (lambda: recording.import_message_class('biped_msgs/msg/Nope'), 'not installed'),
+    (lambda: recording.import_message_class('just_a_name'), 'expected package/msg/Type'),
+    (lambda: recording.TypeRegistry(prefixes=[]).ensure('biped_msgs/msg/WalkingState'),
      'no message definition for biped_msgs/msg/WalkingState'),
 ])
 def test_unknown_types_are_clear_errors(call, words):
-    with pytest.raises(record.RecordError, match=words):
+    with pytest.raises(recording.RecordError, match=words):
         call()
 
 
@@ -125,7 +123,7 @@ def test_custom_standard_and_transient_local_topics_are_recorded_byte_for_byte(
     plans.publish(plan)
 
     node = executor.track(rclpy.create_node('record_test_recorder', context=ros_context))
-    recorder = record.BagRecorder(
+    recorder = recording.BagRecorder(
         node, tmp_path / 'bag', topics=['walking_state', 'cmd_vel', 'reference_trajectory',
                                         'footstep_plan'])
     sent = {'/walking_state': [walking_state(i) for i in range(20)],
@@ -188,9 +186,9 @@ def test_custom_standard_and_transient_local_topics_are_recorded_byte_for_byte(
 def test_all_records_topics_appearing_later_and_max_messages_closes_a_sqlite3_bag(
         ros_context, executor, tmp_path):
     node = executor.track(rclpy.create_node('record_test_all', context=ros_context))
-    recorder = record.BagRecorder(node, tmp_path / 'bag', record_all=True,
-                                  exclude='rosout|parameter_events', storage='sqlite3',
-                                  max_messages=5)
+    recorder = recording.BagRecorder(node, tmp_path / 'bag', record_all=True,
+                                     exclude='rosout|parameter_events', storage='sqlite3',
+                                     max_messages=5)
     source = executor.track(rclpy.create_node('record_test_late', context=ros_context))
     late = source.create_publisher(Twist, 'late_topic', BURST)
     assert spin_until(executor, lambda: '/late_topic' in recorder.records and
@@ -220,17 +218,17 @@ def test_unknown_type_or_hash_mismatch_skips_that_topic_and_records_the_others(
     velocities = source.create_publisher(Twist, 'cmd_vel', BURST)
     node = executor.track(rclpy.create_node('record_test_bad', context=ros_context))
     logged = []
-    recorder = record.BagRecorder(
+    recorder = recording.BagRecorder(
         node, tmp_path / 'bag', topics=['walking_state', 'cmd_vel'],
-        registry=record.TypeRegistry(prefixes=[tmp_path / 'prefix', Path(sys.prefix)]),
+        registry=recording.TypeRegistry(prefixes=[tmp_path / 'prefix', Path(sys.prefix)]),
         log=logged.append)
     assert spin_until(executor, lambda: '/walking_state' in recorder.errors and
                       velocities.get_subscription_count() >= 1, timeout=10)
     assert 'differs from the installed definition' in recorder.errors['/walking_state']
     assert any(line.startswith('error: not recording /walking_state') for line in logged)
-    with pytest.raises(record.RecordError, match="unknown type 'nopkg/msg/Nope'"):
+    with pytest.raises(recording.RecordError, match="unknown type 'nopkg/msg/Nope'"):
         recorder.add_topic('other', 'nopkg/msg/Nope')
-    with pytest.raises(record.RecordError, match='invalid topic name'):
+    with pytest.raises(recording.RecordError, match='invalid topic name'):
         recorder.add_topic('bad name', 'geometry_msgs/msg/Twist')
     velocities.publish(twist(3))
     states.publish(walking_state(3))

@@ -1,15 +1,13 @@
 """The ros2cli stand-in: YAML to messages (nested, sequences, errors) and a real publish."""
 import subprocess
-import sys
 
 from biped_msgs.msg import FootstepPlan, WalkCommand
 import pytest
 import rclpy
 
+from biped_tools import ros2_cli
+from biped_tools.interface_types import import_interface
 from ros_harness import Collector, PYTHON, REPO, ros_environment, spin_until
-
-sys.path.insert(0, str(REPO / 'scripts'))
-import ros2_cli  # noqa: E402
 
 CLI = str(REPO / 'scripts' / 'ros2_cli.py')
 
@@ -40,7 +38,7 @@ def test_fill_errors_name_the_field(values, words):
 @pytest.mark.parametrize('name', ['biped_msgs/msg/Nope', 'nopkg/msg/X', 'just_a_name'])
 def test_unknown_types_are_clear_errors(name):
     with pytest.raises(ValueError):
-        ros2_cli.import_type(name)
+        import_interface(name)
 
 
 def test_topic_pub_once_reaches_a_subscriber(ros_context, executor):

@@ -2,16 +2,13 @@
 import os
 import signal
 import subprocess
-import sys
 
 from geometry_msgs.msg import Twist
 import pytest
 import rclpy
 
+from biped_tools import teleop
 from ros_harness import Collector, PYTHON, REPO
-
-sys.path.insert(0, str(REPO / 'scripts'))
-import teleop  # noqa: E402
 
 TELEOP = str(REPO / 'scripts' / 'teleop.py')
 LIMITS = ['--max-vx', '0.2', '--max-vy', '0.1', '--max-wz', '0.3', '--step-linear', '0.15',

@@ -12,32 +12,22 @@ Prints Markdown tables:
    physics with sensing), median and p99 in microseconds, with the QP solve time inside the
    controller.
 
-Usage: .venv/bin/python scripts/benchmark_closed_loop.py [--runs 3]
+Usage: .venv/bin/python scripts/benchmarks/benchmark_closed_loop.py [--runs 3]
 """
 
 import argparse
-from pathlib import Path
-import sys
 import time
 
+from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_planner.footsteps import straight_footsteps
+from biped_planner.walking_reference import WalkingReference
+from biped_sim.closed_loop import ClosedLoopParams, ClosedLoopRunner
+from biped_sim.model_plant_backend import ModelPlantBackend
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.robot_description import coman_like
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-for package in ('biped_planner', 'biped_mpc', 'biped_sim'):
-    sys.path.insert(0, str(ROOT / 'ros2_ws' / 'src' / package))
-
-from biped_mpc.walking_controller import WalkingController, WalkingControllerParams  # noqa
-from biped_planner.footsteps import straight_footsteps  # noqa: E402
-from biped_planner.step_timing import StepTiming  # noqa: E402
-from biped_planner.walking_reference import ReferenceParams, WalkingReference  # noqa: E402
-from biped_sim.closed_loop import ClosedLoopParams, ClosedLoopRunner  # noqa: E402
-from biped_sim.model_plant_backend import ModelPlantBackend  # noqa: E402
-from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig  # noqa: E402
-from biped_sim.robot_description import coman_like  # noqa: E402
-
-TIMING = StepTiming(single_support=0.4, double_support=0.2)
-REFERENCE = ReferenceParams(com_height=0.497, swing_height=0.04, foot_length=0.2,
-                            foot_width=0.1)
+from biped_tools.closed_loop_walk import LEG_KP, REFERENCE, STEP_WIDTH, T_START, TIMING
 
 
 def simulator_alone(sim, description, seconds: float) -> float:
@@ -78,10 +68,10 @@ def main() -> None:
                         help='simulated time of the simulator-alone run')
     args = parser.parse_args()
     description = coman_like()
-    footsteps = straight_footsteps(20, 0.1, 0.14)
-    reference = WalkingReference(footsteps, TIMING, REFERENCE, t_start=0.5)
+    footsteps = straight_footsteps(20, 0.1, STEP_WIDTH)
+    reference = WalkingReference(footsteps, TIMING, REFERENCE, t_start=T_START)
     duration = reference.t_end + 0.5
-    sim = PyBulletBackend(description, PyBulletConfig(leg_kp=2000.0))
+    sim = PyBulletBackend(description, PyBulletConfig(leg_kp=LEG_KP))
     controller = WalkingController(WalkingControllerParams(robot=description))
     plant = ModelPlantBackend(description)
     plant_controller = WalkingController(WalkingControllerParams(

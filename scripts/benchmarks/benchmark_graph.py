@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark the whole node graph in lockstep: real-time factor and control-loop latency.
 
-Brings up the five nodes (scripts/bringup.py, sim time, lockstep), lets the humanoid walk in
+Brings up the five nodes (biped_tools.node_graph, sim time, lockstep), lets the humanoid walk in
 place, and measures on the wall clock:
 - real-time factor: simulated seconds per wall second while walking (lockstep: physics waits
   for each controller command, so this is how fast the whole graph runs);
@@ -18,15 +18,12 @@ tests' GraphSession instead, which also keeps odom, com, zmp, references and dia
 own load slows the graph). Prints a Markdown table of medians and p99 over several runs.
 """
 import argparse
-from pathlib import Path
 import statistics
 import sys
 import time
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from bringup import GraphOptions, NodeGraph  # noqa: E402
-from graph_session import ALL_NODES, close_client, GraphSession  # noqa: E402
+from biped_tools.graph_session import ALL_NODES, close_client, GraphSession, stamp_seconds
+from biped_tools.node_graph import GraphOptions, NodeGraph
 
 WARM_UP = 1.5  # simulated s of walking before measuring
 
@@ -52,7 +49,7 @@ class LatencyProbe:
 
     def _on_sensors(self, msg) -> None:
         self.sensor_arrival.setdefault(stamp_key(msg), time.perf_counter())
-        self.sim_time = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        self.sim_time = stamp_seconds(msg.header.stamp)
 
     def _on_diagnostics(self, msg) -> None:
         if msg.cycle_latency > 0.0:

@@ -10,32 +10,27 @@ set-up), the per-cycle time of the solver calls of both planes and of the whole 
 cycles, and the largest difference of the applied jerks and the largest relative cost
 difference to the exact reference (quadprog). Prints a Markdown table.
 
-Usage: .venv/bin/python scripts/benchmark_mpc.py [--repeats 3] [--backends daqp,quadprog]
+Usage: .venv/bin/python scripts/benchmarks/benchmark_mpc.py [--repeats 3]
+           [--backends daqp,quadprog]
 """
 
 import argparse
 import dataclasses
-from pathlib import Path
 import sys
 import time
 
+from biped_mpc.linear_mpc import LinearMpc, MpcParams
+from biped_mpc.lipm_model import LipmParams
+from biped_mpc.model_plant import PlantParams
+from biped_mpc.model_walk import Push, run_walk, WalkSetup
+from biped_mpc.qp_backends import BACKENDS
+from biped_mpc.reference_adapter import outputs_from_window
+from biped_mpc.state_estimator import EstimatorParams
+from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
+from biped_planner.footsteps import straight_footsteps
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import ReferenceParams, WalkingReference
 import numpy as np
-
-ROOT = Path(__file__).resolve().parents[1]
-for package in ('biped_planner', 'biped_mpc'):
-    sys.path.insert(0, str(ROOT / 'ros2_ws' / 'src' / package))
-
-from biped_mpc.linear_mpc import LinearMpc, MpcParams  # noqa: E402
-from biped_mpc.lipm_model import LipmParams  # noqa: E402
-from biped_mpc.model_plant import PlantParams  # noqa: E402
-from biped_mpc.model_walk import Push, run_walk, WalkSetup  # noqa: E402
-from biped_mpc.qp_backends import BACKENDS  # noqa: E402
-from biped_mpc.reference_adapter import outputs_from_window  # noqa: E402
-from biped_mpc.state_estimator import EstimatorParams  # noqa: E402
-from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams  # noqa: E402
-from biped_planner.footsteps import straight_footsteps  # noqa: E402
-from biped_planner.step_timing import StepTiming  # noqa: E402
-from biped_planner.walking_reference import ReferenceParams, WalkingReference  # noqa: E402
 
 REFERENCE_BACKEND = 'quadprog'
 

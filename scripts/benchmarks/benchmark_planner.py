@@ -3,29 +3,23 @@
 
 Prints a table of medians and 99th percentiles (wall time, this machine). Targets: A* on the
 20 x 20 m map at 0.05 m (160,000 cells) <= 50 ms; references for one control cycle (80 samples)
-<= 0.2 ms. Usage: scripts/benchmark_planner.py [--repeats 50] [--cycles 5000]
+<= 0.2 ms. Usage: scripts/benchmarks/benchmark_planner.py [--repeats 50] [--cycles 5000]
 """
 import argparse
 import math
-import os
-import sys
 import time
 from typing import Callable, List
 
-import numpy as np
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'ros2_ws', 'src', 'biped_planner'))
-
-from biped_planner.astar import AStarPlanner  # noqa: E402
-from biped_planner.example_maps import benchmark_map, paper_start_goal_example  # noqa: E402
-from biped_planner.footstep_planner import FootstepPlanner  # noqa: E402
-from biped_planner.footsteps import Footstep, straight_footsteps  # noqa: E402
-from biped_planner.omnidirectional_stepper import (OmnidirectionalStepper,  # noqa: E402
+from biped_planner.astar import AStarPlanner
+from biped_planner.example_maps import benchmark_map, paper_start_goal_example
+from biped_planner.footstep_planner import FootstepPlanner
+from biped_planner.footsteps import Footstep, straight_footsteps
+from biped_planner.omnidirectional_stepper import (OmnidirectionalStepper,
                                                    StepCommand)
-from biped_planner.pose2d import Pose2D  # noqa: E402
-from biped_planner.step_timing import StepTiming  # noqa: E402
-from biped_planner.walking_reference import WalkingReference  # noqa: E402
+from biped_planner.pose2d import Pose2D
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import WalkingReference
+import numpy as np
 
 
 def _times(function: Callable[[], object], repeats: int) -> List[float]:

@@ -6,25 +6,19 @@ joint controller, no planner or MPC) while the COMAN-like robot stands, per cont
 median of several runs; then per-call timings (median and p99) of the sensor readout, a camera
 frame, the analytic IK and the Pinocchio IK (warm and cold started).
 
-Usage: .venv/bin/python scripts/benchmark_sim.py [--runs 5] [--seconds 10]
+Usage: .venv/bin/python scripts/benchmarks/benchmark_sim.py [--runs 5] [--seconds 10]
 """
 
 import argparse
-from pathlib import Path
-import sys
 import time
 
+from biped_mpc.leg_ik import AnalyticLegIk
+from biped_planner.rotations import rotation_z as yaw_rotation
+from biped_mpc.pinocchio_ik import PinocchioLegIk
+from biped_sim.camera_view import CameraView
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.robot_description import coman_like
 import numpy as np
-
-ROOT = Path(__file__).resolve().parents[1]
-for package in ('biped_sim', 'biped_mpc'):
-    sys.path.insert(0, str(ROOT / 'ros2_ws' / 'src' / package))
-
-from biped_mpc.leg_ik import AnalyticLegIk, yaw_rotation  # noqa: E402
-from biped_mpc.pinocchio_ik import PinocchioLegIk  # noqa: E402
-from biped_sim.camera_view import CameraView  # noqa: E402
-from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig  # noqa: E402
-from biped_sim.robot_description import coman_like  # noqa: E402
 
 MODES = (
     ('torque (PD + gravity compensation every step)', {'control_mode': 'torque'}),

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """The main job: the humanoid walks from START to GOAL around obstacles, through the node graph.
 
 Brings up the whole graph headless in lockstep (simulator, state machine, A*/footstep planner,
@@ -9,77 +8,15 @@ footsteps, COM; ZMP against the support polygon) and summary.json to output/demo
 import argparse
 import json
 from pathlib import Path
-import shutil
-import statistics
 import sys
-import time
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from graph_session import GraphSession  # noqa: E402
-from run_plots import top_view, zmp_figure, zmp_inside_fraction  # noqa: E402
-
-REPO = Path(__file__).resolve().parent.parent
-IDLE = 0
-
-
-def run(out: Path, domain_id: int, model: str, timeout: float, log=print) -> dict:
-    from biped_planner.example_maps import paper_start_goal_example
-    grid, start, goal = paper_start_goal_example()
-    bag = out / 'bag'
-    if bag.exists():
-        shutil.rmtree(bag)
-    overrides = {'simulator': [f'start_x:={start.x}', f'start_y:={start.y}',
-                               f'start_yaw:={start.yaw}'],
-                 'mpc_controller': [f'model:={model}']}
-    wall_start = time.monotonic()
-    with GraphSession(domain_id, bag_dir=bag, overrides=overrides, log=log) as session:
-        session.publish_map(grid)
-        session.wait_until_ready()
-        t0 = session.sim_time()
-        log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
-        session.send_goal(goal.x, goal.y, goal.yaw)
-        session.spin_until(lambda: session.series.plans, 20.0)
-        plan = session.series.plans[-1] if session.series.plans else None
-        if plan is None or plan.status != 0:
-            raise RuntimeError(f'planning failed: {plan.error_msg if plan else "no plan"}')
-        walked = session.spin_until(lambda: session.phase() not in (None, IDLE), 20.0)
-        finished = walked and session.spin_until(
-            lambda: session.phase() == IDLE or session.fallen(), timeout)
-        session.wait_sim_time(1.0, 20.0)  # the final settle of the hip
-        series = session.series
-        wall = time.monotonic() - wall_start
-    bag_summary = session.summary  # written when the session closed the bag
-    pelvis = series.pelvis[-1]
-    error = ((pelvis[1] - goal.x) ** 2 + (pelvis[2] - goal.y) ** 2) ** 0.5
-    sim_duration = pelvis[0] - t0
-    solve = sorted(series.solve_times)
-    summary = {
-        'goal': [goal.x, goal.y], 'final_pelvis': [round(pelvis[1], 4), round(pelvis[2], 4)],
-        'final_error_m': round(error, 4), 'fallen': session.fallen(), 'finished': finished,
-        'steps_planned': len(plan.footsteps) - 2,
-        'steps_walked': max(s[2] for s in series.states),
-        'simulated_s': round(sim_duration, 2), 'wall_s': round(wall, 1),
-        'goal_sent_at_sim_s': round(t0, 3), 'ended_at_sim_s': round(pelvis[0], 3),
-        'zmp_inside_support_fraction': round(zmp_inside_fraction(series, margin=0.01), 3),
-        'max_tilt_deg': round(max(p[4] for p in series.pelvis) * 57.2958, 2),
-        'mpc_solve_time_median_us': round(statistics.median(solve) * 1e6, 1) if solve else None,
-        'mpc_solve_time_p99_us': round(solve[int(0.99 * (len(solve) - 1))] * 1e6, 1)
-        if solve else None,
-        'model': model,
-        'bag': str(bag), 'bag_messages': bag_summary.message_count if bag_summary else 0,
-    }
-    (out / 'summary.json').write_text(json.dumps(summary, indent=2))
-    top_view(series, out / 'walk_top_view.png',
-             f'START -> GOAL through the node graph ({model}): error {error:.3f} m',
-             grid=grid, goal=(goal.x, goal.y))
-    zmp_figure(series, out / 'walk_zmp.png', 'ZMP (F/T) against the support polygon')
-    return summary
+from biped_tools.paths import OUTPUT
+from biped_tools.scenarios.start_goal import arrived, walk_start_to_goal
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument('--out', type=Path, default=REPO / 'output' / 'demo')
+    parser.add_argument('--out', type=Path, default=OUTPUT / 'demo')
     parser.add_argument('--domain-id', type=int, default=42)
     parser.add_argument('--model', choices=['three_mass', 'lipm'], default='three_mass')
     parser.add_argument('--timeout', type=float, default=300.0,
@@ -87,15 +24,11 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     try:
-        summary = run(args.out, args.domain_id, args.model, args.timeout)
+        summary = walk_start_to_goal(args.out, args.domain_id, args.model, args.timeout)
     except (RuntimeError, TimeoutError) as error:
         print(f'[demo] error: {error}', file=sys.stderr)
         return 1
     print(json.dumps(summary, indent=2))
     print(f'[demo] plots and summary in {args.out}')
-    ok = summary['finished'] and not summary['fallen'] and summary['final_error_m'] <= 0.15
-    return 0 if ok else 1
+    return 0 if arrived(summary) else 1
 
-
-if __name__ == '__main__':
-    sys.exit(main())

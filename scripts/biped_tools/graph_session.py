@@ -1,21 +1,20 @@
 """Drive the running node graph as a user would, and keep what it publishes.
 
-A GraphSession brings up the nodes (scripts/bringup.py), records a rosbag2 of the run
-(scripts/record.py), and offers the user's actions: publish a map, send a goal, a walk command,
+A GraphSession brings up the nodes (biped_tools.node_graph), records a rosbag2 of the run
+(biped_tools.recording), and offers the user's actions: publish a map, send a goal, a walk command,
 a velocity command, push the robot. It keeps the time series the plots and checks need
 (pelvis, COM, measured ZMP, support bounds, walking state, plans, controller diagnostics).
 Used by the demo, the scenario runner and the graph tests.
 """
 from dataclasses import dataclass, field
-import math
 from pathlib import Path
-import sys
 import time
 from typing import Callable, List, Optional
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+from biped_msgs.msg import WalkCommand, WalkingState
+from biped_planner.rotations import quaternion_from_yaw, tilt_of_quaternion, yaw_of_quaternion
 
-from bringup import GraphOptions, NodeGraph  # noqa: E402
+from biped_tools.node_graph import GraphOptions, NodeGraph
 
 RECORDED_TOPICS = ['walking_state', 'footstep_plan', 'plan', 'footstep_markers',
                    'reference_trajectory', 'controller_diagnostics', 'odom', 'zmp', 'com', 'imu',
@@ -23,6 +22,7 @@ RECORDED_TOPICS = ['walking_state', 'footstep_plan', 'plan', 'footstep_markers',
                    'walk_command', 'walk_command_status', 'cmd_vel', 'goal_pose', 'map']
 ALL_NODES = ['simulator', 'state_machine', 'footstep_planner', 'reference_generator',
              'mpc_controller']
+IDLE = WalkingState.IDLE
 
 
 @dataclass
@@ -45,13 +45,15 @@ def stamp_seconds(stamp) -> float:
 
 
 def close_client(executor, node, context) -> None:
-    """Tear down a client's ROS side: its node off the executor and destroyed (if it was
-    made), the executor shut down, then its context."""
+    """Tear down a client's ROS side: its node off the executor and destroyed, the executor
+    shut down (each if it was made), then its context."""
     import rclpy
     if node is not None:
-        executor.remove_node(node)
+        if executor is not None:
+            executor.remove_node(node)
         node.destroy_node()
-    executor.shutdown()
+    if executor is not None:
+        executor.shutdown()
     rclpy.try_shutdown(context=context)
 
 
@@ -73,6 +75,8 @@ class GraphSession:
         self.recorder = None
         self.summary = None
         self.walk_start_time = 0.0  # of the last walking_state: the gait is timed from it
+        self.node = None
+        self.executor = None
         self._context = None
 
     # --- life cycle -------------------------------------------------------------------------
@@ -85,6 +89,19 @@ class GraphSession:
         return False
 
     def start(self, timeout: float = 60.0) -> None:
+        """Start the nodes, wait until they are up (timeout s), then the client and recorder.
+
+        On a failure (a node dies while starting, a timeout), what was started is stopped
+        again before the error propagates: the node processes run in sessions of their own
+        and would otherwise outlive this process and talk into the next graph on the domain.
+        """
+        try:
+            self._start(timeout)
+        except BaseException:
+            self.stop()
+            raise
+
+    def _start(self, timeout: float) -> None:
         import rclpy
         from biped_planner.node_support.node_runner import make_executor
         self.graph.start()
@@ -97,7 +114,7 @@ class GraphSession:
         self.executor.add_node(self.node)
         self._make_endpoints()
         if self.bag_dir is not None:
-            from record import BagRecorder
+            from biped_tools.recording import BagRecorder
             self.recorder = BagRecorder(self.node, self.bag_dir, topics=RECORDED_TOPICS,
                                         log=lambda text: None)
 
@@ -115,8 +132,7 @@ class GraphSession:
             self.graph.stop()
 
     def _make_endpoints(self) -> None:
-        from biped_msgs.msg import (ControllerDiagnostics, FootstepPlan, ReferenceTrajectory,
-                                    WalkCommand, WalkingState)
+        from biped_msgs.msg import ControllerDiagnostics, FootstepPlan, ReferenceTrajectory
         from biped_msgs.srv import Push, SetTerrain
         from geometry_msgs.msg import PointStamped, PoseStamped, Twist
         from nav_msgs.msg import OccupancyGrid, Odometry, Path as PathMsg
@@ -132,11 +148,11 @@ class GraphSession:
         self.terrain_client = node.create_client(SetTerrain, 'set_terrain')
 
         def on_odom(m):
-            q = m.pose.pose.orientation
-            tilt = math.acos(max(-1.0, min(1.0, 1.0 - 2.0 * (q.x * q.x + q.y * q.y))))
+            o = m.pose.pose.orientation
+            q = (o.x, o.y, o.z, o.w)
             p = m.pose.pose.position
-            yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-            s.pelvis.append((stamp_seconds(m.header.stamp), p.x, p.y, p.z, tilt, yaw))
+            s.pelvis.append((stamp_seconds(m.header.stamp), p.x, p.y, p.z, tilt_of_quaternion(q),
+                             yaw_of_quaternion(q)))
 
         def on_reference(m):
             if len(m.zmp_x):
@@ -151,6 +167,7 @@ class GraphSession:
         node.create_subscription(PointStamped, 'zmp', lambda m: s.zmp.append((
             stamp_seconds(m.header.stamp), m.point.x, m.point.y)), 50)
         node.create_subscription(ReferenceTrajectory, 'reference_trajectory', on_reference, 50)
+
         def on_walking_state(m):
             s.states.append((stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen,
                              m.reason))
@@ -191,15 +208,26 @@ class GraphSession:
         end = self.sim_time() + seconds
         return self.spin_until(lambda: self.sim_time() >= end, timeout)
 
+    def recording_odometry(self) -> bool:
+        """Whether the bag (if any) has odometry: from then on the run is recorded whole (the
+        recorder subscribes once it discovers a publisher, later than this session's own
+        subscriptions)."""
+        if self.recorder is None:
+            return True
+        odom = self.recorder.records.get('/odom')
+        return odom is not None and odom.count > 0
+
     def wait_until_ready(self, timeout: float = 60.0) -> None:
-        """Every node talks: the controller answers and references flow."""
+        """Every node talks: the controller answers, references flow, the bag records."""
         ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and self.series.pelvis
-                             and self.series.states and self.series.bounds, timeout)
+                             and self.series.states and self.series.bounds
+                             and self.recording_odometry(), timeout)
         if not ok:
             raise TimeoutError(f'graph not ready after {timeout} s (controller cycles: '
                                f'{len(self.series.solve_times)}, states: '
                                f'{len(self.series.states)}, references: '
-                               f'{len(self.series.bounds)})')
+                               f'{len(self.series.bounds)}, odometry recorded: '
+                               f'{self.recording_odometry()})')
 
     def phase(self) -> Optional[int]:
         return self.series.states[-1][1] if self.series.states else None
@@ -219,12 +247,11 @@ class GraphSession:
         msg.header.frame_id = 'map'
         msg.header.stamp = self.node.get_clock().now().to_msg()
         msg.pose.position.x, msg.pose.position.y = x, y
-        msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        _, _, msg.pose.orientation.z, msg.pose.orientation.w = map(float, quaternion_from_yaw(yaw))
         self.wait_for_nodes_on('/goal_pose', ('footstep_planner', 'state_machine'))
         self.goal_pub.publish(msg)
 
     def send_command(self, **fields) -> None:
-        from biped_msgs.msg import WalkCommand
         self.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
         self.command_pub.publish(WalkCommand(**fields))
 

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Draw the paper's planning figure (Fig. PathPlanning) for the START-GOAL example map.
 
 Occupied cells (grey), inflated cells (light grey), the A* path (black dashed), footsteps as
@@ -6,40 +5,27 @@ rectangles (left red, right blue), the ZMP reference (magenta) and the hip refer
 dashed). Usage: scripts/plot_planning.py [--out output/planning]
 """
 import argparse
-import math
 import os
-import sys
 
-import matplotlib
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.patches import Polygon, Rectangle  # noqa: E402
-import numpy as np  # noqa: E402
+from biped_planner.astar import AStarPlanner
+from biped_planner.example_maps import paper_start_goal_example
+from biped_planner.footstep_planner import FootstepPlanner
+from biped_planner.sides import LEFT
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import ReferenceParams, WalkingReference
+import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'ros2_ws', 'src', 'biped_planner'))
-
-from biped_planner.astar import AStarPlanner  # noqa: E402
-from biped_planner.example_maps import paper_start_goal_example  # noqa: E402
-from biped_planner.footstep_planner import FootstepPlanner  # noqa: E402
-from biped_planner.footsteps import LEFT  # noqa: E402
-from biped_planner.step_timing import StepTiming  # noqa: E402
-from biped_planner.walking_reference import ReferenceParams, WalkingReference  # noqa: E402
+from biped_tools.run_plots import foot_outline, pyplot
 
 
-def _foot_polygon(step, length, width, **style):
-    half = np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]]) * [0.5 * length, 0.5 * width]
-    cos_yaw, sin_yaw = math.cos(step.yaw), math.sin(step.yaw)
-    corners = half @ np.array([[cos_yaw, sin_yaw], [-sin_yaw, cos_yaw]]) + [step.x, step.y]
-    return Polygon(corners, closed=True, **style)
-
-
-def main() -> None:
+def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--out', default=os.path.join('output', 'planning'),
                         help='output directory (default: output/planning)')
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
+    plt = pyplot()
+    from matplotlib.patches import Rectangle
 
     grid, start, goal = paper_start_goal_example()
     astar = AStarPlanner(grid)
@@ -60,8 +46,8 @@ def main() -> None:
               label='A* path')
     for step in plan.footsteps:
         colour = 'red' if step.side == LEFT else 'blue'
-        axes.add_patch(_foot_polygon(step, params.foot_length, params.foot_width,
-                                     fill=False, edgecolor=colour, lw=1.0))
+        axes.add_patch(foot_outline(step, params.foot_length, params.foot_width,
+                                    fill=False, edgecolor=colour, lw=1.0))
     axes.plot(window.zmp[:, 0], window.zmp[:, 1], color='magenta', lw=1.2, label='ZMP')
     axes.plot(window.hip[:, 0], window.hip[:, 1], '--', color='lime', lw=1.8, label='hip')
     axes.plot([], [], color='red', label='left foot')
@@ -81,7 +67,4 @@ def main() -> None:
     path = os.path.join(args.out, 'planning.png')
     figure.savefig(path, dpi=130, bbox_inches='tight')
     print(path)
-
-
-if __name__ == '__main__':
-    main()
+    return 0

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """A small stand-in for ros2cli (not installable here): topic pub, topic echo, service call.
 
 The arguments are those of `ros2`, so a line written for a full ROS install works with this tool
@@ -14,11 +13,12 @@ by replacing `ros2` with `.venv/bin/python scripts/ros2_cli.py`:
 Values come as YAML; a Header given as `auto` and a Time given as `now` get the current time.
 """
 import argparse
-import importlib
 import sys
 import time
 
 import yaml
+
+from biped_tools.interface_types import import_interface
 
 FLOAT_TYPES = {'float', 'double'}
 INTEGER_BITS = {'int8': (True, 8), 'uint8': (False, 8), 'int16': (True, 16),
@@ -49,22 +49,6 @@ def basic_value(base: str, value):
     if base.startswith(('string', 'wstring')) and not isinstance(value, str):
         raise ValueError(f'expected a string, got {value!r}')
     return value
-
-
-def import_type(name: str, kind: str = 'msg'):
-    """Import 'pkg/msg/Type' (or 'pkg/Type') as a Python class.
-
-    :raises ValueError: for a malformed or unknown type name
-    """
-    parts = name.split('/')
-    if len(parts) == 2:
-        parts = [parts[0], kind, parts[1]]
-    if len(parts) != 3 or not all(parts):
-        raise ValueError(f'type {name!r}: expected package/{kind}/Type')
-    try:
-        return getattr(importlib.import_module(f'{parts[0]}.{parts[1]}'), parts[2])
-    except (ImportError, AttributeError):
-        raise ValueError(f'unknown type {name!r}') from None
 
 
 def element_type(field_type: str) -> str:
@@ -98,7 +82,7 @@ def fill(msg, values, now_msg):
             fill(current, value, now_msg)
         elif '/' in element_type(field_type) and ('sequence<' in field_type or
                                                    '[' in field_type):
-            cls = import_type(element_type(field_type))
+            cls = import_interface(element_type(field_type))
             setattr(msg, key, [fill(cls(), item, now_msg) for item in value])
         else:
             base = element_type(field_type)
@@ -138,7 +122,7 @@ def qos_profile(args):
 
 
 def topic_pub(node, args) -> int:
-    cls = import_type(args.type)
+    cls = import_interface(args.type)
     values = yaml.safe_load(args.values) if args.values else None
     publisher = node.create_publisher(cls, args.topic, qos_profile(args))
     import rclpy
@@ -169,7 +153,7 @@ def topic_pub(node, args) -> int:
 
 def topic_echo(node, args) -> int:
     import rclpy
-    cls = import_type(args.type)
+    cls = import_interface(args.type)
     received = []
     node.create_subscription(cls, args.topic, received.append, qos_profile(args))
     deadline = time.monotonic() + args.timeout if args.timeout > 0 else None
@@ -187,7 +171,7 @@ def topic_echo(node, args) -> int:
 
 def service_call(node, args) -> int:
     import rclpy
-    cls = import_type(args.type, kind='srv')
+    cls = import_interface(args.type, kind='srv')
     client = node.create_client(cls, args.service)
     if not client.wait_for_service(timeout_sec=args.timeout):
         print(f'error: service {args.service} not available after {args.timeout} s',
@@ -267,6 +251,3 @@ def main(argv=None) -> int:
         node.destroy_node()
         rclpy.try_shutdown()
 
-
-if __name__ == '__main__':
-    sys.exit(main())

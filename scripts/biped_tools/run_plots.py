@@ -1,16 +1,33 @@
 """Figures of a graph run: top view (map, path, footsteps, COM) and ZMP against the support
 polygon, in the style of the paper's figures. Input: a graph_session.RunSeries."""
+import math
 from pathlib import Path
 from typing import Optional
 
+from biped_planner.sides import LEFT
 import numpy as np
 
 
-def _plt():
+def pyplot():
+    """matplotlib.pyplot on the file-only Agg backend (no display needed)."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     return plt
+
+
+def foot_outline(step, length: float, width: float, **style):
+    """The rectangle of a foot (length x width in m) centred on a footstep, turned by its yaw.
+
+    :param step: anything with x, y (m) and yaw (rad)
+    :param style: matplotlib patch keywords (edgecolor, fill, lw, ...)
+    :return: a matplotlib Polygon to add to an axes
+    """
+    from matplotlib.patches import Polygon
+    half = np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]]) * [0.5 * length, 0.5 * width]
+    cos_yaw, sin_yaw = math.cos(step.yaw), math.sin(step.yaw)
+    corners = half @ np.array([[cos_yaw, sin_yaw], [-sin_yaw, cos_yaw]]) + [step.x, step.y]
+    return Polygon(corners, closed=True, **style)
 
 
 def zmp_inside_fraction(series, margin: float = 0.0) -> float:
@@ -32,8 +49,7 @@ def zmp_inside_fraction(series, margin: float = 0.0) -> float:
 def top_view(series, out: Path, title: str, grid=None, goal=None, foot=(0.2, 0.1),
              extra=None) -> Path:
     """Map, A* path, footsteps of the last plan, pelvis and COM paths."""
-    plt = _plt()
-    from matplotlib.patches import Rectangle
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 7))
     if grid is not None:
         x0, x1, y0, y1 = grid.extent
@@ -45,11 +61,8 @@ def top_view(series, out: Path, title: str, grid=None, goal=None, foot=(0.2, 0.1
     plans = [p for p in series.plans if p.status == 0]
     if plans:
         for step in plans[-1].footsteps:
-            corner = np.array([step.x, step.y]) - 0.5 * np.array(
-                [foot[0] * np.cos(step.yaw) - foot[1] * np.sin(step.yaw),
-                 foot[0] * np.sin(step.yaw) + foot[1] * np.cos(step.yaw)])
-            ax.add_patch(Rectangle(corner, foot[0], foot[1], angle=np.degrees(step.yaw),
-                                   fill=False, ec='r' if step.side == 0 else 'b', lw=1.0))
+            ax.add_patch(foot_outline(step, foot[0], foot[1], fill=False,
+                                      ec='r' if step.side == LEFT else 'b', lw=1.0))
     if series.com:
         com = np.array(series.com)
         ax.plot(com[:, 1], com[:, 2], color='limegreen', lw=2, label='COM (measured)')
@@ -68,16 +81,12 @@ def top_view(series, out: Path, title: str, grid=None, goal=None, foot=(0.2, 0.1
     ax.plot([], [], 'r-', label='left foot')
     ax.plot([], [], 'b-', label='right foot')
     ax.legend(loc='best', fontsize=8)
-    fig.tight_layout()
-    path = Path(out)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, out)
 
 
 def zmp_figure(series, out: Path, title: str, window: Optional[tuple] = None) -> Path:
     """Measured and reference ZMP in x and y against the support polygon bounds over time."""
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
     bounds = np.array(series.bounds) if series.bounds else np.zeros((0, 5))
     reference = np.array(series.zmp_reference) if series.zmp_reference else np.zeros((0, 3))
@@ -101,21 +110,21 @@ def zmp_figure(series, out: Path, title: str, window: Optional[tuple] = None) ->
     if window is not None:
         axes[-1].set_xlim(*window)
     axes[0].set_title(title)
+    return save_figure(fig, out)
+
+
+def save_figure(fig, path: Path) -> Path:
+    """Lay out a figure, save it (110 dpi) and close it."""
     fig.tight_layout()
-    path = Path(out)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    pyplot().close(fig)
+    return Path(path)
 
 
 def save_time_figure(fig, ax, path: Path, ylabel: str, title: str) -> Path:
     """Label a figure over simulated time, save it (110 dpi) and close it."""
-    plt = _plt()
     ax.set_xlabel('simulated time (s)')
     ax.set_ylabel(ylabel)
     ax.set_title(title)
     ax.legend(loc='lower left', fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path)

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Keyboard teleop: drive the biped with geometry_msgs/Twist on `cmd_vel`, like
 teleop_twist_keyboard.
 
@@ -23,11 +22,11 @@ import argparse
 from dataclasses import dataclass
 import os
 import select
-import signal
 import sys
-import threading
 import time
 from typing import List, Tuple
+
+from biped_tools.stop_signal import stop_on_signals
 
 # key -> (setpoint field, direction of one step)
 STEP_KEYS = {'w': ('vx', 1), 'x': ('vx', -1), 'a': ('vy', 1), 'd': ('vy', -1),
@@ -191,9 +190,7 @@ def main(argv=None) -> int:
         return 2
     # Signals only set a flag, so the loop below always ends by sending a zero Twist and
     # restoring the terminal.
-    stop = threading.Event()
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, lambda *_: stop.set())
+    stop = stop_on_signals()
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     from geometry_msgs.msg import Twist
     import rclpy
@@ -242,6 +239,3 @@ def main(argv=None) -> int:
         rclpy.try_shutdown()
     return 0
 
-
-if __name__ == '__main__':
-    sys.exit(main())

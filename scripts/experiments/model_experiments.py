@@ -18,40 +18,34 @@ Sub-commands (each writes <name>.json and PNG plots into --out):
   "Withstood" is defined in biped_mpc.push_recovery.evaluate_push (copied into the JSON).
 * all: the three.
 
-Usage: .venv/bin/python scripts/model_experiments.py all [--out output/model_experiments]
+Usage: .venv/bin/python scripts/experiments/model_experiments.py all
+           [--out output/model_experiments]
 """
 
 import argparse
 import json
 from pathlib import Path
-import sys
 import time
 
+from biped_mpc.linear_model import OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG, OUTPUT_ZMP
+from biped_mpc.linear_mpc import MpcParams
+from biped_mpc.lipm_model import lipm_model, LipmParams
+from biped_mpc.model_plant import PlantParams
+from biped_mpc.model_walk import (
+    optimal_fraction, Push, run_walk, tracking_rms, WalkSetup)
+from biped_mpc.push_recovery import (
+    evaluate_push, largest_withstood_force, WithstandCriteria)
+from biped_mpc.state_estimator import EstimatorParams
+from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
+from biped_planner.footsteps import straight_footsteps
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import ReferenceParams, WalkingReference
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-for package in ('biped_planner', 'biped_mpc'):
-    sys.path.insert(0, str(ROOT / 'ros2_ws' / 'src' / package))
+from biped_tools.paths import OUTPUT
+from biped_tools.run_plots import pyplot
 
-import matplotlib  # noqa: E402
-
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-
-from biped_mpc.linear_model import OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG, OUTPUT_ZMP  # noqa: E402
-from biped_mpc.linear_mpc import MpcParams  # noqa: E402
-from biped_mpc.lipm_model import lipm_model, LipmParams  # noqa: E402
-from biped_mpc.model_plant import PlantParams  # noqa: E402
-from biped_mpc.model_walk import (  # noqa: E402
-    optimal_fraction, Push, run_walk, tracking_rms, WalkSetup)
-from biped_mpc.push_recovery import (  # noqa: E402
-    evaluate_push, largest_withstood_force, WithstandCriteria)
-from biped_mpc.state_estimator import EstimatorParams  # noqa: E402
-from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams  # noqa: E402
-from biped_planner.footsteps import straight_footsteps  # noqa: E402
-from biped_planner.step_timing import StepTiming  # noqa: E402
-from biped_planner.walking_reference import ReferenceParams, WalkingReference  # noqa: E402
-
+plt = pyplot()
 # The paper's walk: five 0.8 m steps of 1 s; the foot is 0.1 m long (Table Params). Foot width,
 # step width and the split of the step time are not in the paper: our choices.
 STEPS = 5
@@ -285,7 +279,7 @@ def _write(path: Path, data: dict) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('experiment', choices=('tracking', 'noise', 'disturbance', 'all'))
-    parser.add_argument('--out', type=Path, default=ROOT / 'output' / 'model_experiments')
+    parser.add_argument('--out', type=Path, default=OUTPUT / 'model_experiments')
     parser.add_argument('--seed', type=int, default=0, help='seed of the measurement noise')
     parser.add_argument('--backend', default='daqp', help='QP backend of the MPC')
     parser.add_argument('--resolution', type=float, default=5.0,

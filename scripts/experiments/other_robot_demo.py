@@ -11,25 +11,21 @@ A robot passes when it never tilts 3 degrees or more, its pelvis never sinks 1 c
 foot is off the ground for the whole hold and both feet are back on the ground at the end.
 
 Needs: pip install -r requirements-robots.txt
-Usage: .venv/bin/python scripts/other_robot_demo.py [--robot g1 talos] [--gui] [--lift 0.03]
+Usage: .venv/bin/python scripts/experiments/other_robot_demo.py [--robot g1 talos] [--gui]
+           [--lift 0.03]
 """
 
 import argparse
 import math
-from pathlib import Path
 import sys
 import time
 
-ROOT = Path(__file__).resolve().parents[1]
-for package in ('biped_sim', 'biped_mpc'):
-    sys.path.insert(0, str(ROOT / 'ros2_ws' / 'src' / package))
-
-import pybullet  # noqa: E402
-
-from biped_mpc.pinocchio_ik import PinocchioLegIk  # noqa: E402
-from biped_sim.other_robots import (MissingRobotDataError, ROBOTS, sim_config, tilt,  # noqa: E402
-                                    weight_shift_trial)
-from biped_sim.pybullet_backend import PyBulletBackend  # noqa: E402
+from biped_mpc.pinocchio_ik import PinocchioLegIk
+from biped_planner.rotations import tilt_of_quaternion as tilt
+from biped_sim.other_robots import MissingRobotDataError, ROBOTS, sim_config
+from biped_sim.weight_shift_trial import weight_shift_trial
+from biped_sim.pybullet_backend import PyBulletBackend
+import pybullet
 
 MAX_TILT_DEG = 3.0
 MAX_SINK = 0.01  # m

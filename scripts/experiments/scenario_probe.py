@@ -1,10 +1,13 @@
 """Probe of the paper's COMAN scenarios in the library closed loop (no ROS), both controllers.
 
 Investigation for issue 7 (the paper's table tb:summary): push recovery while walking in place,
-walking around a disk, omnidirectional walking with a command scale factor. Each trial is a
-fresh reset of one PyBullet backend; one simulation at a time.
+walking around a disk, omnidirectional walking with a command scale factor. The scenarios'
+geometry, commands and success tests are those of biped_tools.scenarios (the node-graph runs);
+here they drive ClosedLoopRunner directly. Each trial is a fresh reset of one PyBullet backend;
+one simulation at a time.
 
-Usage: .venv/bin/python scripts/scenario_probe.py [push] [omni] [disk] [--models three_mass,lipm]
+Usage: .venv/bin/python scripts/experiments/scenario_probe.py [push] [omni] [disk]
+           [--models three_mass,lipm]
 (no part: all three, in the order push, omni, disk)
 """
 import argparse
@@ -13,30 +16,37 @@ import math
 import sys
 import time
 
-import numpy as np
-
-from biped_mpc.linear_mpc import LEG_OUTPUTS
+from biped_mpc.mpc_params import LEG_OUTPUTS
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.omnidirectional_stepper import (OmnidirectionalStepper, StepCommand,
                                                    StepperParams)
 from biped_planner.pose2d import Pose2D
+from biped_planner.rotations import quaternion_to_matrix, roll_pitch_of_matrix
 from biped_planner.step_timing import StepTiming
-from biped_planner.walking_reference import ReferenceParams, WalkingReference
-from biped_sim.closed_loop import ClosedLoopRunner, CommandedWalk
+from biped_planner.walking_reference import WalkingReference
+from biped_sim.closed_loop import ClosedLoopRunner
+from biped_sim.reference_sources import CommandedWalk
 from biped_sim.external_push import ExternalPush
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
+import numpy as np
 
-REFERENCE = ReferenceParams(com_height=0.497, swing_height=0.04, foot_length=0.2, foot_width=0.1)
-STEP_WIDTH = 0.14
-T_START = 0.5
-PAPER_TIMING = StepTiming(0.3, 0.1)     # 0.4 s step, as in the paper
-WORKING_TIMING = StepTiming(0.4, 0.2)   # the timing the tests walk with
-PAPER = {'push': '150 / 100 N', 'omni': '1.16 / 1.03', 'disk': '0.22 / 0.12 m'}
+from biped_tools import closed_loop_walk
+from biped_tools.closed_loop_walk import STEP_WIDTH, T_START
+from biped_tools.scenarios import disk, omni, push
+from biped_tools.scenarios.summary import PAPER as PAPER_TABLE
+
+REFERENCE = closed_loop_walk.REFERENCE
+PAPER_TIMING = StepTiming(*push.TIMING)    # 0.4 s step, as in the paper
+WORKING_TIMING = closed_loop_walk.TIMING   # the timing the tests walk with
+UNITS = {'push': ' N', 'omni': '', 'disk': ' m'}
+# the paper's (proposed / LIPM) of each part
+PAPER = {part: f'{PAPER_TABLE[part][1]:g} / {PAPER_TABLE[part][0]:g}{unit}'
+         for part, unit in UNITS.items()}
 
 ROBOT = coman_like()
-LEG_KP = 2000.0
+LEG_KP = closed_loop_walk.LEG_KP
 FRESH = False
 BACKEND = None
 LEG_OUTPUTS_CHOICE = None   # None: the walking controller's default
@@ -80,9 +90,8 @@ def diagnose(log, window=1.5):
     if log.t.size == 0:
         return ''
     last = log.t >= log.t[-1] - window
-    x, y, z, w = log.base_orientation[-1]
-    roll = math.degrees(math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
-    pitch = math.degrees(math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x)))))
+    roll, pitch = map(math.degrees,
+                      roll_pitch_of_matrix(quaternion_to_matrix(log.base_orientation[-1])))
     single = last & (log.support != 2)
     inside = log.zmp_inside_support()[single].mean() if single.any() else math.nan
     clipped = np.mean((log.controller_status[last] & 8) != 0)
@@ -125,14 +134,16 @@ def push_part(model, timing=PAPER_TIMING):
         calm = walk_in_place(model, timing, 6.0)
         if calm.fallen:
             return None, f'falls walking in place at 0.4/0.2 too ({calm.fall_time:.2f} s)'
-    t_push = push_time(calm) + 0.25 * timing.single_support
-    duration = t_push + 0.1 + 3.0
+    # the paper's push: a quarter into a single support, push.DURATION long
+    t_push = push_time(calm) + push.PUSH_FRACTION * timing.single_support
+    duration = t_push + push.DURATION + 3.0
 
     def survives(force):
         log = walk_in_place(model, timing, duration,
-                            ExternalPush(force=(force, 0.0, 0.0), duration=0.1,
+                            ExternalPush(force=(force, 0.0, 0.0), duration=push.DURATION,
                                          start_time=t_push))
-        print(f'  push {model} {force:6.1f} N: {"FELL at %.2f s" % log.fall_time if log.fallen else "ok"}'
+        outcome = f'FELL at {log.fall_time:.2f} s' if log.fallen else 'ok'
+        print(f'  push {model} {force:6.1f} N: {outcome}'
               f' (max tilt {math.degrees(log.tilt.max()):.1f} deg)', flush=True)
         return not log.fallen
 
@@ -149,25 +160,11 @@ def push_part(model, timing=PAPER_TIMING):
 
 
 # ----------------------------------------------------------------------------- omnidirectional
-def omni_schedule(scale, step_time):
-    def command(t):
-        if t < 2.0 or t >= 32.0:
-            return StepCommand(0.0, 0.0, 0.0)
-        if t < 10.0:
-            x, y, a = 0.1, 0.0, 0.0
-        elif t < 20.0:
-            x, y, a = 0.1, 0.05, 0.0
-        else:
-            x, y, a = 0.2, 0.05, math.radians(15.0) * step_time
-        return StepCommand(scale * x, scale * y, scale * a)
-    return command
-
-
 def omni_run(model, timing, scale):
     step_time = timing.single_support + timing.double_support
-    runner, _ = commanded_runner(model, timing, omni_schedule(scale, step_time))
-    log = runner.run(36.0)
-    return log
+    runner, _ = commanded_runner(
+        model, timing, lambda t: StepCommand(*omni.setpoint(t, scale, step_time)))
+    return runner.run(omni.DURATION)
 
 
 def omni_part(model, timing):
@@ -203,14 +200,12 @@ def omni_part(model, timing):
 
 
 # ----------------------------------------------------------------------------- disk
-DISK_CENTRE = np.array([0.0, 1.8])   # disk of radius 1.35 m, 1.8 m to the robot's left
-CIRCLE_RADIUS = 2.0
-
-
 def disk_run(model, timing, step_length, turns=1.0):
-    state = {'runner': None, 'angle': 0.0, 'last': None, 'done': False}
-    stepper_box = {}
-    max_angle = math.radians(30.0)
+    """Around the disk, steered from the COM and the stepper's heading (the graph runs steer
+    from the end of the plan) with the stepper's turn limit."""
+    stepper = OmnidirectionalStepper(Pose2D(0.0, 0.0, 0.0), stepper_params())
+    steering = disk.CircleSteering(step_length, max_turn=stepper_params().max_step_angle)
+    state = {'runner': None, 'done': False}
 
     def position():
         runner = state['runner']
@@ -221,40 +216,22 @@ def disk_run(model, timing, step_length, turns=1.0):
     def command(t):
         if state['done'] or t < 1.0:
             return StepCommand(0.0, 0.0, 0.0)
-        p = position()
-        rel = p - DISK_CENTRE
-        r = float(np.hypot(*rel))
-        tangent = math.atan2(rel[1], rel[0]) + 0.5 * math.pi   # counter-clockwise
-        # steer outward when inside the 2 m circle: lean the heading by atan(k (R - r))
-        desired = tangent - math.atan(1.0 * (CIRCLE_RADIUS - r))
-        yaw = stepper_box['stepper'].body.yaw
-        error = math.atan2(math.sin(desired - yaw), math.cos(desired - yaw))
-        alpha = step_length / CIRCLE_RADIUS + 0.5 * error
-        return StepCommand(step_length, 0.0, float(np.clip(alpha, -max_angle, max_angle)))
+        return StepCommand(*steering.command(position(), stepper.body.yaw))
 
-    stepper = OmnidirectionalStepper(Pose2D(0.0, 0.0, 0.0), stepper_params())
-    stepper_box['stepper'] = stepper
     source = CommandedWalk(stepper, timing, REFERENCE, command, WalkingReference,
                            steps_ahead=2, t_start=T_START)
     runner = ClosedLoopRunner(backend(), controller(model), source)
     runner.reset()
     state['runner'] = runner
-    rel0 = -DISK_CENTRE
-    state['last'] = math.atan2(rel0[1], rel0[0])
-    radii = []
+    lap = disk.LapCounter((0.0, 0.0))
 
     def on_cycle(t, window, output, readings):
-        rel = np.asarray(readings.com_position[:2]) - DISK_CENTRE
-        a = math.atan2(rel[1], rel[0])
-        d = math.atan2(math.sin(a - state['last']), math.cos(a - state['last']))
-        state['angle'] += d
-        state['last'] = a
-        radii.append(float(np.hypot(*rel)))
-        if state['angle'] >= 2.0 * math.pi * turns:
+        lap.update(readings.com_position[:2])
+        if lap.swept >= 2.0 * math.pi * turns:
             state['done'] = True
 
     step_time = timing.single_support + timing.double_support
-    expected = 2.0 * math.pi * CIRCLE_RADIUS * turns / step_length * step_time
+    expected = 2.0 * math.pi * disk.CIRCLE_RADIUS * turns / step_length * step_time
     budget = 1.0 + 1.6 * expected + 3.0
     elapsed, chunk = 0.0, 2.0
     fallen, fall_time = False, math.nan
@@ -271,12 +248,21 @@ def disk_run(model, timing, step_length, turns=1.0):
             done_at = elapsed
         if done_at is not None and elapsed - done_at >= 3.0:
             break
-    end = position()
-    radii = np.array(radii[int(3.0 / 0.02):]) if len(radii) > 200 else np.array(radii)
-    return dict(fallen=fallen, fall_time=fall_time, why=why, done=state['done'] and not fallen,
-                angle=math.degrees(state['angle']), end_error=float(np.hypot(*end)),
-                r_min=float(radii.min()) if radii.size else math.nan,
-                r_max=float(radii.max()) if radii.size else math.nan)
+    end_error = float(np.hypot(*position()))
+    radii = lap.settled_radii()
+    r_min = float(radii.min()) if radii.size else math.nan
+    r_max = float(radii.max()) if radii.size else math.nan
+    done = state['done'] and not fallen
+    # walking on for 3 s after the lap stands in for the graph runs' stop
+    return dict(fallen=fallen, fall_time=fall_time, why=why, done=done,
+                success=disk.succeeded(done, True, fallen, r_min, r_max, end_error, turns),
+                angle=math.degrees(lap.swept), end_error=end_error, r_min=r_min, r_max=r_max)
+
+
+def verdict(res) -> str:
+    if res['success']:
+        return 'done'
+    return 'lap done, off the circle or the start' if res['done'] else 'NOT DONE'
 
 
 def disk_part(model, timing, lengths, turns):
@@ -286,9 +272,10 @@ def disk_part(model, timing, lengths, turns):
         res = disk_run(model, timing, length, turns)
         results[length] = res
         print(f'  disk {model} L={length:.2f}: '
-              f'{"FELL at %.1f s" % res["fall_time"] if res["fallen"] else ("done" if res["done"] else "NOT DONE")}'
+              f'{"FELL at %.1f s" % res["fall_time"] if res["fallen"] else verdict(res)}'
               f', swept {res["angle"]:.0f} deg, radius {res["r_min"]:.2f}-{res["r_max"]:.2f} m, '
-              f'end {res["end_error"]:.2f} m from start ({time.perf_counter() - start:.0f} s wall) '
+              f'end {res["end_error"]:.2f} m from start '
+              f'({time.perf_counter() - start:.0f} s wall) '
               f'{res["why"]}',
               flush=True)
     return results
@@ -303,10 +290,10 @@ def main(argv=None):
     parser.add_argument('--disk-timing', default='0.3,0.1')
     parser.add_argument('--disk-lengths', default='0.08,0.12,0.16,0.20,0.25')
     parser.add_argument('--turns', type=float, default=1.0, help='1: full circle, 0.5: half')
-    parser.add_argument('--leg-kp', type=float, default=2000.0)
+    parser.add_argument('--leg-kp', type=float, default=closed_loop_walk.LEG_KP)
     parser.add_argument('--fresh-backend', action='store_true',
                         help='a new PyBullet backend for every trial (independent trials)')
-    parser.add_argument('--com-height', type=float, default=0.497,
+    parser.add_argument('--com-height', type=float, default=closed_loop_walk.COM_HEIGHT,
                         help='reference COM height (m); lower gives the legs more reach')
     parser.add_argument('--leg-outputs', default=None, choices=LEG_OUTPUTS,
                         help="what the MPC tracks of the legs (MpcParams.leg_outputs; default: "
@@ -317,8 +304,7 @@ def main(argv=None):
     LEG_KP = args.leg_kp
     FRESH = args.fresh_backend
     global REFERENCE
-    REFERENCE = ReferenceParams(com_height=args.com_height, swing_height=0.04, foot_length=0.2,
-                                foot_width=0.1)
+    REFERENCE = replace(closed_loop_walk.REFERENCE, com_height=args.com_height)
     models = args.models.split(',')
     rows, walls = {}, {}
     for part in args.parts:
@@ -338,7 +324,7 @@ def main(argv=None):
                 timing = StepTiming(*map(float, args.disk_timing.split(',')))
                 lengths = [float(v) for v in args.disk_lengths.split(',')]
                 res = disk_part(model, timing, lengths, args.turns)
-                ok = [f'{L:.2f}' for L, r in res.items() if r['done']]
+                ok = [f'{L:.2f}' for L, r in res.items() if r['success']]
                 row[model] = f'ok: {",".join(ok) or "none"} ({timing.single_support}/' \
                              f'{timing.double_support}, turns {args.turns})'
         rows[part] = row

@@ -6,17 +6,12 @@ DDS and asserts the physical outcome from the topics and from the recorded bag.
 import math
 import os
 import signal
-import sys
 
 import numpy as np
 
-from ros_harness import domain_id_for_worker, REPO
-
-sys.path.insert(0, str(REPO / 'scripts'))
-import demo  # noqa: E402
-from graph_session import GraphSession  # noqa: E402
-
-IDLE = 0
+from biped_tools.graph_session import GraphSession, IDLE
+from biped_tools.scenarios.start_goal import walk_start_to_goal
+from ros_harness import domain_id_for_worker
 
 
 def pelvis(session):
@@ -25,8 +20,8 @@ def pelvis(session):
 
 def test_start_to_goal_around_obstacles_arrives_and_the_bag_reads_back(tmp_path):
     from rosbags.highlevel import AnyReader
-    summary = demo.run(tmp_path, domain_id_for_worker(), 'three_mass', timeout=300,
-                       log=print)
+    summary = walk_start_to_goal(tmp_path, domain_id_for_worker(), 'three_mass', timeout=300,
+                                 log=print)
     assert not summary['fallen']
     assert summary['finished']
     assert summary['final_error_m'] <= 0.15

@@ -2,17 +2,14 @@
 setting each); the full sweeps are `scripts/scenarios.py summary`. Each asserts the physical
 outcome, read from the run's topics."""
 import math
-import sys
 
 import numpy as np
 import pytest
 
-from ros_harness import domain_id_for_worker, REPO
-
-sys.path.insert(0, str(REPO / 'scripts'))
-from paper_scenarios import disk, omni, push, terrain  # noqa: E402
-from paper_scenarios.sweep import grid, largest_completing  # noqa: E402
-from paper_scenarios.trial import Trial  # noqa: E402
+from biped_tools.scenarios import disk, omni, push, terrain
+from biped_tools.scenarios.sweep import grid, largest_completing
+from biped_tools.scenarios.trial import Trial
+from ros_harness import domain_id_for_worker
 
 
 def trial(tmp_path, scenario, setting, model='three_mass', record=False):

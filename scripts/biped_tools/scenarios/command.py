@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """The paper's COMAN experiments through the node graph, for the three-mass MPC and the LIPM
 baseline: one sub-command per scenario, `summary` for the table tb:summary, `video` for a clip.
 
@@ -17,15 +16,12 @@ Common: --model three_mass|lipm|both (default both), --out DIR, --domain-id N, -
 import argparse
 import json
 from pathlib import Path
-import sys
 import time
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+from biped_tools.paths import OUTPUT
+from biped_tools.scenarios import disk, omni, push, start_goal, summary, terrain
+from biped_tools.scenarios.trial import TrialFactory
 
-from paper_scenarios import disk, omni, push, start_goal, summary, terrain  # noqa: E402
-from paper_scenarios.trial import TrialFactory  # noqa: E402
-
-REPO = Path(__file__).resolve().parent.parent
 MODELS = ('lipm', 'three_mass')
 
 
@@ -34,7 +30,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument('--model', choices=MODELS + ('both',), default='both')
-    common.add_argument('--out', type=Path, default=REPO / 'output' / 'scenarios')
+    common.add_argument('--out', type=Path, default=OUTPUT / 'scenarios')
     common.add_argument('--domain-id', type=int, default=50,
                         help='first ROS domain; trials use the next ones (up to +9)')
     common.add_argument('--no-bag', action='store_true', help='do not record bags')
@@ -126,10 +122,7 @@ def main(argv=None) -> int:
     if args.scenario == 'summary':
         return run_summary(args)
     if args.scenario == 'video':
-        from paper_scenarios.video import run_video
+        from biped_tools.scenarios.video import run_video
         return run_video(args, trials_for(args, models_of(args)[-1]))
     return run_scenario(args)
 
-
-if __name__ == '__main__':
-    sys.exit(main())

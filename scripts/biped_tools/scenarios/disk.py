@@ -2,18 +2,24 @@
 
 A disk of radius 1.35 m whose centre is 1.8 m to the robot's left; the robot walks around it
 counter-clockwise keeping 2 m from the centre and returns to its start. The step length is
-fixed; the turn of each step comes from the position it is taken from (the end of the plan,
-a few steps ahead of the robot): the heading aims along the tangent of the 2 m circle, leaning
-outward or inward by the radial error. Commands go to the
-planner as OMNI walk commands (per-step X, Y, alpha, through its lag filter), one per step.
+fixed; the turn of each step comes from the position it is taken from: the heading aims along
+the tangent of the 2 m circle, leaning outward or inward by the radial error (CircleSteering).
+A lap is the angle the COM sweeps around the centre (LapCounter); `succeeded` is the success
+test: a whole lap, no fall, standing at the end, near the circle all along (after the start)
+and back near the start.
+
+This module is the one definition of the scenario: `run` walks it through the node graph (the
+position is the end of the plan, a few steps ahead of the robot; commands go to the planner as
+OMNI walk commands, per-step X, Y, alpha through its lag filter, one per step), and
+scripts/experiments/scenario_probe.py walks it in the library closed loop.
 """
 import math
 
 import numpy as np
 
-from paper_scenarios.sweep import grid, largest_completing
-from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
-                                   SWEEP_LIMITS, Trial, write_result)
+from biped_tools.scenarios.sweep import grid, largest_completing
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
+                                         SWEEP_LIMITS, Trial, write_result)
 
 DISK_CENTRE = (0.0, 1.8)
 DISK_RADIUS = 1.35
@@ -23,7 +29,8 @@ HEADING_GAIN = 0.5       # share of the heading error corrected per step
 MAX_TURN = math.radians(20.0)  # per step, the planner's teleop limit
 RADIUS_TOLERANCE = 0.35  # m: the walk must stay within 2 m +- this
 RETURN_TOLERANCE = 0.5   # m: distance to the start after the lap
-OMNI = 3
+SETTLING = 3.0           # s at the start (weight shift, first steps) not held to the circle
+SAMPLE_PERIOD = 0.02     # s between LapCounter updates (one per control period)
 COMMAND_DELAY = 0.25  # s of sim time after a step starts (steps of 0.4 + 0.2 s)
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
 
@@ -41,10 +48,15 @@ def disk_map():
 
 
 class CircleSteering:
-    """The per-step command: fixed length, turn toward the 2 m circle's tangent."""
+    """The per-step command: fixed length, turn toward the 2 m circle's tangent.
 
-    def __init__(self, step_length: float) -> None:
+    :param step_length: X of every step (m)
+    :param max_turn: largest turn per step (rad): the planner's teleop limit by default
+    """
+
+    def __init__(self, step_length: float, max_turn: float = MAX_TURN) -> None:
         self.step_length = step_length
+        self.max_turn = max_turn
 
     def command(self, position, planned_yaw: float) -> tuple:
         rel = np.asarray(position) - DISK_CENTRE
@@ -53,7 +65,7 @@ class CircleSteering:
         desired = tangent - math.atan(RADIAL_GAIN * (CIRCLE_RADIUS - radius))
         error = math.remainder(desired - planned_yaw, 2.0 * math.pi)
         turn = self.step_length / CIRCLE_RADIUS + HEADING_GAIN * error
-        return self.step_length, 0.0, float(np.clip(turn, -MAX_TURN, MAX_TURN))
+        return self.step_length, 0.0, float(np.clip(turn, -self.max_turn, self.max_turn))
 
 
 class LapCounter:
@@ -71,6 +83,29 @@ class LapCounter:
         self.swept += math.remainder(angle - self.last, 2.0 * math.pi)
         self.last = angle
         self.radii.append(float(np.hypot(*rel)))
+
+    def settled_radii(self) -> np.ndarray:
+        """The radii after the first SETTLING s (all of them in a run shorter than 6 s)."""
+        skip = int(SETTLING / SAMPLE_PERIOD)
+        return np.array(self.radii[skip:] if len(self.radii) > 2 * skip else self.radii)
+
+
+def succeeded(completed: bool, stood: bool, fallen: bool, radius_min: float,
+              radius_max: float, return_error: float, laps: float) -> bool:
+    """The success test of a walk around the disk.
+
+    :param completed: the COM swept `laps` turns around the centre
+    :param stood: the robot stood (or walked on) without a fall after the lap
+    :param fallen: it fell at any time
+    :param radius_min: smallest settled distance of the COM to the centre (m)
+    :param radius_max: largest settled distance (m)
+    :param return_error: distance of the COM's end to its start (m), checked for a whole lap
+    :param laps: turns asked for
+    """
+    return bool(completed and stood and not fallen and
+                abs(radius_min - CIRCLE_RADIUS) <= RADIUS_TOLERANCE and
+                abs(radius_max - CIRCLE_RADIUS) <= RADIUS_TOLERANCE and
+                (laps < 1.0 or return_error <= RETURN_TOLERANCE))
 
 
 def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
@@ -127,19 +162,15 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     end = np.array(series.com[-1][1:3])
-    radii = np.array(lap.radii[int(3.0 / 0.02):]) if len(lap.radii) > 300 else np.array(
-        lap.radii)
+    radii = lap.settled_radii()
     result.update({
         'step_length_m': step_length, 'swept_deg': round(math.degrees(lap.swept), 1),
         'radius_min_m': round(float(radii.min()), 3), 'radius_max_m': round(float(radii.max()), 3),
         'radius_rms_error_m': round(float(np.sqrt(np.mean((radii - CIRCLE_RADIUS) ** 2))), 3),
         'return_error_m': round(float(np.hypot(*(end - start))), 3),
     })
-    result['success'] = bool(
-        completed and stood and not result['fallen'] and
-        abs(result['radius_min_m'] - CIRCLE_RADIUS) <= RADIUS_TOLERANCE and
-        abs(result['radius_max_m'] - CIRCLE_RADIUS) <= RADIUS_TOLERANCE and
-        (laps < 1.0 or result['return_error_m'] <= RETURN_TOLERANCE))
+    result['success'] = succeeded(completed, stood, result['fallen'], result['radius_min_m'],
+                                  result['radius_max_m'], result['return_error_m'], laps)
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)
 
@@ -162,12 +193,12 @@ def largest_step_length(make_trial) -> tuple:
 
 def _omni(x: float, y: float, turn: float):
     from biped_msgs.msg import WalkCommand
-    return WalkCommand(command=OMNI, step_length=x, step_width=y, step_angle=turn)
+    return WalkCommand(command=WalkCommand.OMNI, step_length=x, step_width=y, step_angle=turn)
 
 
 def plot(trial: Trial, series, result: dict):
     """Feet and COM in the XY plane with the disk and the 2 m circle (paper Fig. walkingaround)."""
-    from run_plots import top_view
+    from biped_tools.run_plots import top_view
 
     def circles(ax):
         from matplotlib.patches import Circle

@@ -4,33 +4,42 @@ Walking in place, then per-step setpoints (X, Y, alpha) that change at t = 2, 10
 of the walk: forward, diagonal, diagonal while turning at 15 deg/s, and back to walking in
 place; each goes to the planner as an OMNI walk command and through its first-order lag filter.
 A scale factor multiplies every setpoint (the paper's sweep: 1.03 baseline, 1.16 proposed).
+Success: the whole schedule walked without a fall, standing at the end.
+
+The schedule is defined here once (`setpoint`): `run` walks it through the node graph and
+scripts/experiments/scenario_probe.py in the library closed loop.
 """
 import math
 import time
 
 import numpy as np
 
-from paper_scenarios.sweep import grid, largest_completing
-from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
-                                   SWEEP_LIMITS, Trial, write_result)
+from biped_tools.scenarios.sweep import grid, largest_completing
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
+                                         SWEEP_LIMITS, Trial, write_result)
 
 STEP_TIME = 0.6     # s, the configured gait (0.4 single + 0.2 double support)
 DURATION = 36.0     # s of walk: 4 s of walking in place after the last change
 # (t from the walk start in s, X m per step, Y m per step, alpha deg/s)
 SCHEDULE = ((0.0, 0.0, 0.0, 0.0), (2.0, 0.1, 0.0, 0.0), (10.0, 0.1, 0.05, 0.0),
             (20.0, 0.2, 0.05, 15.0), (32.0, 0.0, 0.0, 0.0))
-OMNI = 3
 SCALES = grid(0.5, 1.5, 0.05)  # 1.5: X = 0.3 m, the command bound
 
 
-def setpoint(t_walk: float, scale: float) -> tuple:
-    """The scaled (X, Y, alpha per step) commanded at t_walk s after the walk start."""
+def setpoint(t_walk: float, scale: float, step_time: float = STEP_TIME) -> tuple:
+    """The scaled (X m, Y m, alpha rad per step) commanded at t_walk s after the walk start,
+    for steps of step_time s (the turn rate is per second)."""
     current = SCHEDULE[0]
     for entry in SCHEDULE:
         if t_walk >= entry[0]:
             current = entry
     _, x, y, rate = current
-    return scale * x, scale * y, scale * math.radians(rate) * STEP_TIME
+    return scale * x, scale * y, scale * math.radians(rate) * step_time
+
+
+def succeeded(completed: bool, stood: bool, fallen: bool) -> bool:
+    """The success test: the schedule walked to its end, standing after it, no fall."""
+    return bool(completed and stood and not fallen)
 
 
 def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
@@ -39,7 +48,7 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
     with graph_for(trial, extra=SWEEP_LIMITS) as session:
         progress = Progress(trial)
         sim0 = session.sim_time()
-        session.send_command(command=OMNI)   # walk in place: all setpoints zero
+        session.send_command(command=WalkCommand.OMNI)   # walk in place: all setpoints zero
         session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
         walk0 = session.walk_start_time
         sent = {'value': None}
@@ -49,7 +58,7 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
             if value != sent['value']:
                 sent['value'] = value
                 session.command_pub.publish(WalkCommand(
-                    command=OMNI, step_length=value[0], step_width=value[1],
+                    command=WalkCommand.OMNI, step_length=value[0], step_width=value[1],
                     step_angle=value[2]))
             return t - walk0 >= duration
 
@@ -63,7 +72,7 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
                    'final_pelvis': [round(float(v), 3) for v in pelvis[-1, 1:3]],
                    'turned_deg': round(math.degrees(float(np.unwrap(pelvis[:, 5])[-1] -
                                                           pelvis[0, 5])), 1)})
-    result['success'] = bool(completed and stood and not result['fallen'])
+    result['success'] = succeeded(completed, stood, result['fallen'])
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)
 
@@ -77,7 +86,7 @@ def largest_scale(make_trial, duration: float = DURATION) -> tuple:
 
 def plot(trial: Trial, series, result: dict):
     """Feet and COM in the XY plane (paper Fig. omniwalk)."""
-    from run_plots import top_view
+    from biped_tools.run_plots import top_view
     return top_view(series, trial.directory / 'omni_top_view.png',
                     f'Omnidirectional walking ({trial.model}, scale {result["scale"]}): '
                     f'{"completed" if result["success"] else "failed"}')

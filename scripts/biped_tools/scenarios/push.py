@@ -12,16 +12,16 @@ from typing import List
 
 import numpy as np
 
-from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
-                                   write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
+                                         Trial, write_result)
 
 TIMING = (0.3, 0.1)      # s: the paper's 0.4 s step
 FIRST_PUSH = 4.0         # s after the walk start: past the initial shift, into steady stepping
-PUSH_PHASE = 0.075       # s into a single support phase (a quarter of it)
+PUSH_FRACTION = 0.25     # of a single support phase, before the push starts
+PUSH_PHASE = PUSH_FRACTION * TIMING[0]  # s into the single support (0.075 s)
 INTERVAL = 8.0           # s between pushes (20 steps)
 DURATION = 0.1           # s
 RECOVERY = INTERVAL      # s of walking after the last push to call it withstood (like the others)
-START = 1                # walk command START: in place
 
 
 def forces(first: float = 80.0, maximum: float = 400.0) -> List[float]:
@@ -35,11 +35,12 @@ def forces(first: float = 80.0, maximum: float = 400.0) -> List[float]:
 
 def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
     """Walk in place and push with the forces of schedule (N) along +x (direction 1) or -x."""
+    from biped_msgs.msg import WalkCommand
     wall0 = time.monotonic()
     with graph_for(trial, timing=TIMING) as session:
         progress = Progress(trial)
         sim0 = session.sim_time()
-        session.send_command(command=START)
+        session.send_command(command=WalkCommand.START)   # in place
         session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
         walk0 = session.walk_start_time
         # the first single support begins after Initialize (1 s) and the first double support
@@ -73,8 +74,8 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
 
 def plot(trial: Trial, series, result: dict, times, schedule):
     """COM velocity in x with the push bands (paper Fig. push b)."""
-    from run_plots import _plt, save_time_figure
-    plt = _plt()
+    from biped_tools.run_plots import pyplot, save_time_figure
+    plt = pyplot()
     com = np.array(series.com)
     t = com[:, 0]
     velocity = np.gradient(com[:, 1], t) if len(t) > 2 else np.zeros_like(t)

@@ -9,8 +9,9 @@ from pathlib import Path
 import time
 from typing import Callable, Dict, List
 
-from paper_scenarios import disk, omni, push, start_goal, terrain
-from paper_scenarios.trial import TrialFactory
+from biped_tools.scenarios import disk, omni, push, start_goal, terrain
+from biped_tools.scenarios.trial import TrialFactory
+
 PAPER = {  # tb:summary: baseline, proposed, improvement
     'disk': (0.12, 0.22, 0.83), 'omni': (1.03, 1.16, 0.13), 'push': (100.0, 150.0, 0.50),
     'terrain': (0.0, 1.0, 1.0)}

@@ -11,8 +11,8 @@ import time
 
 import numpy as np
 
-from paper_scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking, Trial,
-                                   write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
+                                         Trial, write_result)
 
 SIDE = 4.0              # m
 BEHIND = 0.5            # m of tiles behind the robot's start: it starts on them (paper)
@@ -20,7 +20,6 @@ HEIGHTS = (0.025, 0.05)  # m
 TILE_AREAS_CM2 = (100, 400, 625)
 STEP_LENGTH = 0.1       # m per step
 EXIT_MARGIN = 0.3       # m past the far edge
-OMNI = 3
 
 
 def tile_size(area_cm2: float) -> float:
@@ -45,7 +44,7 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         progress = Progress(trial)
         sim0 = session.sim_time()
         session.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
-        session.command_pub.publish(WalkCommand(command=OMNI, step_length=step_length))
+        session.command_pub.publish(WalkCommand(command=WalkCommand.OMNI, step_length=step_length))
         exit_x = side - BEHIND + EXIT_MARGIN
         budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0
         crossed = drive(session, lambda t: session.series.pelvis[-1][1] >= exit_x, budget,
@@ -70,8 +69,8 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
 
 def plot(trial: Trial, series, result: dict):
     """COM height while crossing the tiles (paper Fig. uneven b)."""
-    from run_plots import _plt, save_time_figure
-    plt = _plt()
+    from biped_tools.run_plots import pyplot, save_time_figure
+    plt = pyplot()
     com = np.array(series.com)
     fig, ax = plt.subplots(figsize=(10, 4))
     ax.plot(com[:, 0], com[:, 3], 'g-', lw=1, label='COM height')

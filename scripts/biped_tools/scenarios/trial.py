@@ -8,9 +8,9 @@ import shutil
 import time
 from typing import Callable, Dict, List, Optional
 
-from graph_session import GraphSession
+from biped_msgs.msg import WalkCommand
 
-IDLE = 0
+from biped_tools.graph_session import GraphSession, IDLE
 
 
 @dataclass
@@ -68,6 +68,34 @@ class TrialFactory:
                      self.domain_base + self.count % 10, record=self.record, log=self.log)
 
 
+def graph_overrides(model: str, start=(0.0, 0.0, 0.0), timing: Optional[tuple] = None,
+                    extra: Optional[Dict[str, List[str]]] = None) -> Dict[str, List[str]]:
+    """Node parameters of a scenario's graph: {node: ['name:=value', ...]}.
+
+    :param model: the controller's model, 'three_mass' or 'lipm'
+    :param start: the robot's start pose in the simulator (x m, y m, yaw rad)
+    :param timing: (single, double support) of the gait in s; None: the configured one
+    :param extra: more node parameters, given first
+    """
+    overrides = {node: list(values) for node, values in (extra or {}).items()}
+    overrides.setdefault('mpc_controller', []).append(f'model:={model}')
+    overrides.setdefault('simulator', []).extend(
+        [f'start_x:={start[0]}', f'start_y:={start[1]}', f'start_yaw:={start[2]}'])
+    if timing is not None:
+        for node in ('state_machine', 'footstep_planner'):
+            overrides.setdefault(node, []).extend(
+                [f'single_support:={timing[0]}', f'double_support:={timing[1]}'])
+    return overrides
+
+
+def fresh_bag_dir(directory: Path) -> Path:
+    """directory/bag, a previous run's bag there removed (the recorder creates it anew)."""
+    bag = Path(directory) / 'bag'
+    if bag.exists():
+        shutil.rmtree(bag)
+    return bag
+
+
 @contextmanager
 def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0),
               extra: Optional[Dict[str, List[str]]] = None):
@@ -75,19 +103,11 @@ def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0
     support in s; None: the configured one), extra node parameters, recording to its bag."""
     directory = trial.directory
     directory.mkdir(parents=True, exist_ok=True)
-    bag = directory / 'bag'
-    if bag.exists():
-        shutil.rmtree(bag)
-    overrides = {node: list(values) for node, values in trial.overrides.items()}
+    bag = fresh_bag_dir(directory)
+    given = {node: list(values) for node, values in trial.overrides.items()}
     for node, values in (extra or {}).items():
-        overrides.setdefault(node, []).extend(values)
-    overrides.setdefault('mpc_controller', []).append(f'model:={trial.model}')
-    overrides.setdefault('simulator', []).extend(
-        [f'start_x:={start[0]}', f'start_y:={start[1]}', f'start_yaw:={start[2]}'])
-    if timing is not None:
-        for node in ('state_machine', 'footstep_planner'):
-            overrides.setdefault(node, []).extend(
-                [f'single_support:={timing[0]}', f'double_support:={timing[1]}'])
+        given.setdefault(node, []).extend(values)
+    overrides = graph_overrides(trial.model, start, timing, given)
     with GraphSession(trial.domain_id, bag_dir=bag if trial.record else None,
                       overrides=overrides, log=trial.node_log) as session:
         session.wait_until_ready()
@@ -140,7 +160,7 @@ def stop_walking(session: GraphSession, timeout_sim: float = 5.0) -> bool:
     """STOP, then wait for Idle (True) or a fall (False)."""
     if session.fallen():
         return False
-    session.send_command(command=0)
+    session.send_command(command=WalkCommand.STOP)
     end = session.sim_time() + timeout_sim
     session.spin_until(lambda: session.phase() == IDLE or session.fallen() or
                        session.sim_time() >= end, 20.0 * timeout_sim + 30.0)

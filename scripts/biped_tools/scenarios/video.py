@@ -2,7 +2,7 @@
 frames (parameter camera.frames_dir) while the scenario runs; they become an animated GIF."""
 from pathlib import Path
 
-from paper_scenarios import disk, omni, push, terrain
+from biped_tools.scenarios import disk, omni, push, terrain
 
 
 def run_video(args, make_trial) -> int:

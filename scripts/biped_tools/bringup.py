@@ -1,0 +1,92 @@
+"""Bring up the biped node graph: one process per node, like `ros2 launch` (not available here).
+
+Starts each selected node with its parameter file, waits until every node is on the ROS graph,
+forwards their logs with a [node] prefix, and stops the whole graph (SIGINT, wait, SIGKILL) on
+Ctrl-C / SIGTERM, or as soon as one node dies, naming it.
+
+  .venv/bin/python scripts/bringup.py                      # every node, headless
+  .venv/bin/python scripts/bringup.py --nodes state_machine --domain-id 7
+  .venv/bin/python scripts/bringup.py --gui --backend pybullet -p simulator:real_time:=true
+"""
+import argparse
+from pathlib import Path
+import sys
+from typing import Dict, List
+
+from biped_tools.node_graph import available_nodes, GraphOptions, KNOWN_NODES, NodeGraph
+from biped_tools.stop_signal import stop_on_signals
+
+
+def parse_overrides(values: List[str]) -> Dict[str, List[str]]:
+    overrides: Dict[str, List[str]] = {}
+    for value in values:
+        node, sep, assignment = value.partition(':')
+        if not sep or ':=' not in assignment:
+            raise argparse.ArgumentTypeError(f'-p {value!r}: expected node:param:=value')
+        overrides.setdefault(node, []).append(assignment)
+    return overrides
+
+
+def parse_params_files(values: List[str]) -> Dict[str, Path]:
+    files = {}
+    for value in values:
+        node, sep, path = value.partition('=')
+        if not sep:
+            raise argparse.ArgumentTypeError(f'--params-file {value!r}: expected node=path')
+        files[node] = Path(path).resolve()
+    return files
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--nodes', nargs='+', default=None,
+                        help=f'nodes to start (default: all installed of {list(KNOWN_NODES)})')
+    parser.add_argument('--params-file', action='append', default=[], metavar='NODE=PATH',
+                        help='replace a node\'s default parameter file')
+    parser.add_argument('-p', '--param', action='append', default=[],
+                        metavar='NODE:NAME:=VALUE', help='override one parameter of a node')
+    parser.add_argument('--domain-id', type=int, default=None, help='ROS_DOMAIN_ID (0-101)')
+    parser.add_argument('--backend', choices=['pybullet', 'model'], default='pybullet',
+                        help='simulator backend')
+    parser.add_argument('--gui', action='store_true', help='open the simulator window')
+    parser.add_argument('--sim-time', action='store_true',
+                        help='every node follows the simulator\'s /clock')
+    parser.add_argument('--keep-going', action='store_true',
+                        help='when a node dies, keep the others running')
+    parser.add_argument('--timeout', type=float, default=30.0,
+                        help='seconds to wait for all nodes to come up')
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.domain_id is not None and not 0 <= args.domain_id <= 101:
+        print(f'[bringup] error: --domain-id {args.domain_id} outside [0, 101]', file=sys.stderr)
+        return 2
+    options = GraphOptions(nodes=args.nodes or available_nodes(),
+                           params_files=parse_params_files(args.params_file),
+                           overrides=parse_overrides(args.param), domain_id=args.domain_id,
+                           backend=args.backend, gui=args.gui, use_sim_time=args.sim_time,
+                           keep_going=args.keep_going)
+    stop = stop_on_signals()
+    try:
+        graph = NodeGraph(options)
+    except (ValueError, FileNotFoundError) as error:
+        print(f'[bringup] error: {error}', file=sys.stderr)
+        return 2
+    graph.start()
+    status = 0
+    try:
+        graph.wait_until_up(args.timeout, abort=stop)
+        while not stop.is_set():
+            graph.check_alive()
+            stop.wait(0.1)
+        print('[bringup] shutting down')
+    except (RuntimeError, TimeoutError) as error:
+        print(f'[bringup] error: {error}', file=sys.stderr)
+        status = 1
+    finally:
+        graph.stop()
+    return status
+
