@@ -21,8 +21,6 @@ import time
 
 from biped_mpc.linear_mpc import LinearMpc, MpcParams
 from biped_mpc.lipm_model import LipmParams
-from biped_mpc.model_plant import PlantParams
-from biped_mpc.model_walk import Push, run_walk, WalkSetup
 from biped_mpc.qp_backends import BACKENDS
 from biped_mpc.reference_adapter import outputs_from_window
 from biped_mpc.state_estimator import EstimatorParams
@@ -30,6 +28,9 @@ from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
+from biped_sim.external_push import ExternalPush
+from biped_sim.model_plant import PlantParams
+from biped_sim.model_walk import run_walk, WalkSetup
 import numpy as np
 
 REFERENCE_BACKEND = 'quadprog'
@@ -44,7 +45,8 @@ def record_cycles(params: MpcParams) -> list:
     model = three_mass_model()
     setup = WalkSetup(controller_model=model, plant_model=model, mpc=params,
                       plant=PlantParams.paper_noise(0), estimator=EstimatorParams(),
-                      push=Push((200.0, 0.0), 1.6, 0.1), polygon_margin=(0.005, 0.004))
+                      push=ExternalPush((200.0, 0.0, 0.0), duration=0.1, start_time=1.6),
+                      polygon_margin=(0.005, 0.004))
     log = run_walk(reference, setup)
     cycles = []
     previous = np.zeros((2, 3))

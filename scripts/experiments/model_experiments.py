@@ -15,7 +15,7 @@ Sub-commands (each writes <name>.json and PNG plots into --out):
   of the first step) for 100 ms, forces -300 .. 300 N (paper Fig. disturbance), and a
   bisection for the largest withstood forward and backward push, for the three-mass MPC and
   the LIPM baseline (on the three-mass robot, and on a LIPM robot), with and without noise.
-  "Withstood" is defined in biped_mpc.push_recovery.evaluate_push (copied into the JSON).
+  "Withstood" is defined in biped_sim.push_recovery.evaluate_push (copied into the JSON).
 * all: the three.
 
 Usage: .venv/bin/python scripts/experiments/model_experiments.py all
@@ -30,10 +30,11 @@ import time
 from biped_mpc.linear_model import OUTPUT_LEFT_LEG, OUTPUT_RIGHT_LEG, OUTPUT_ZMP
 from biped_mpc.linear_mpc import MpcParams
 from biped_mpc.lipm_model import lipm_model, LipmParams
-from biped_mpc.model_plant import PlantParams
-from biped_mpc.model_walk import (
-    optimal_fraction, Push, run_walk, tracking_rms, WalkSetup)
-from biped_mpc.push_recovery import (
+from biped_sim.external_push import ExternalPush
+from biped_sim.model_plant import PlantParams
+from biped_sim.model_walk import run_walk, WalkSetup
+from biped_sim.walk_log import optimal_fraction, tracking_rms
+from biped_sim.push_recovery import (
     evaluate_push, largest_withstood_force, WithstandCriteria)
 from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
@@ -76,7 +77,8 @@ def polygon_margin() -> tuple:
 
 
 def make_setup(controller: str = 'three_mass', plant: str = 'three_mass', noise: bool = False,
-               seed: int = 0, push: Push = None, mpc: MpcParams = MpcParams()) -> WalkSetup:
+               seed: int = 0, push: ExternalPush = None,
+               mpc: MpcParams = MpcParams()) -> WalkSetup:
     """A closed-loop configuration of the experiments."""
     models = {'three_mass': three_mass_model(),
               'lipm': lipm_model(LipmParams.from_three_mass(ThreeMassParams()))}
@@ -218,7 +220,7 @@ def disturbance(out: Path, args) -> dict:
 
     def outcome_runner(controller, plant, noisy):
         def outcome_of(force):
-            push = Push((force, 0.0), PUSH_TIME, PUSH_DURATION)
+            push = ExternalPush((force, 0.0, 0.0), duration=PUSH_DURATION, start_time=PUSH_TIME)
             log = run_walk(reference, make_setup(controller, plant, noisy, args.seed, push,
                                                  mpc))
             return evaluate_push(log, push, criteria), log

@@ -40,17 +40,18 @@ def finite_vector(name: str, value, size: int, allow_nan: bool = False) -> np.nd
     return array
 
 
-def number_tuple(name: str, value, size: int) -> tuple:
+def number_tuple(name: str, value, size: int, error=ConfigError) -> tuple:
     """:return: value as a tuple of size finite floats (the ranges are the field spec's).
 
-    :raises ConfigError: naming the parameter, for a wrong length or a non-finite entry
+    :param error: the exception type to raise (the calling package's ConfigError)
+    :raises error: naming the parameter, for a wrong length or a non-finite entry
     """
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         array = None
     if array is None or array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise ConfigError(f'{name} must be {size} finite numbers, got {value!r}')
+        raise error(f'{name} must be {size} finite numbers, got {value!r}')
     return tuple(float(v) for v in array)
 
 

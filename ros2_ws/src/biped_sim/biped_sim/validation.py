@@ -7,6 +7,7 @@ bound that depends on another field) is checked with the helpers here.
 import math
 import numbers
 
+from biped_mpc import validation as mpc_validation
 import numpy as np
 
 from biped_sim.errors import ConfigError
@@ -27,17 +28,11 @@ def finite_array(name: str, value, shape: tuple, error=ConfigError) -> np.ndarra
 
 
 def number_tuple(name: str, value, size: int) -> tuple:
-    """:return: value as a tuple of size finite floats.
+    """:return: value as a tuple of size finite floats (biped_mpc's check, this package's error).
 
     :raises ConfigError: naming the parameter, for a wrong length or a non-finite entry
     """
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        array = None
-    if array is None or array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise ConfigError('%s = %r must be %d finite numbers' % (name, value, size))
-    return tuple(float(v) for v in array)
+    return mpc_validation.number_tuple(name, value, size, ConfigError)
 
 
 def finite_number(name: str, value, positive: bool = False) -> float:

@@ -1,4 +1,4 @@
-"""Shared fixtures of the biped_sim tests: the paper's walk from the planner."""
+"""Fixtures shared by the unit tests of every biped package: the paper's MATLAB walk."""
 import pytest
 
 from biped_mpc.lipm_model import LipmParams
