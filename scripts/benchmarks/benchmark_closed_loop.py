@@ -72,10 +72,10 @@ def main() -> None:
     reference = WalkingReference(footsteps, TIMING, REFERENCE, t_start=T_START)
     duration = reference.t_end + 0.5
     sim = PyBulletBackend(description, PyBulletConfig(leg_kp=LEG_KP))
-    controller = WalkingController(WalkingControllerParams(robot=description))
+    controller = WalkingController(WalkingControllerParams(robot=description.controller_model))
     plant = ModelPlantBackend(description)
     plant_controller = WalkingController(WalkingControllerParams(
-        robot=description, pelvis_velocity_gain=0.0, tilt_gain=0.0))
+        robot=description.controller_model, pelvis_velocity_gain=0.0, tilt_gain=0.0))
     alone, loop, model_loop, logs = [], [], [], []
     for _ in range(args.runs):
         alone.append(simulator_alone(sim, description, args.stand_seconds))

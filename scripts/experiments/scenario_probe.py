@@ -65,7 +65,7 @@ def backend():
 
 
 def controller(model):
-    params = WalkingControllerParams(robot=ROBOT, model=model)
+    params = WalkingControllerParams(robot=ROBOT.controller_model, model=model)
     if LEG_OUTPUTS_CHOICE is not None:
         params = replace(params, mpc=replace(params.mpc, leg_outputs=LEG_OUTPUTS_CHOICE))
     return WalkingController(params)
