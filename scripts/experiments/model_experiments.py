@@ -160,22 +160,26 @@ def plot_zmp_offset(ax, log, force: float, withstood: bool) -> None:
     ax.legend(fontsize=6, loc='lower right')
 
 
+def save_walk_figure(path: Path, log, titles: tuple, estimated: bool = False,
+                     zmp_row=None) -> None:
+    """Masses (top) and ZMP (bottom) of both planes, titled '(a) <titles[0]>, sagittal' etc."""
+    fig, axes = plt.subplots(2, 2, figsize=(12, 7))
+    for plane, plane_name in ((0, 'sagittal'), (1, 'frontal')):
+        plot_masses(axes[0, plane], log, plane, estimated=estimated)
+        plot_zmp(axes[1, plane], log, plane, zmp_row=zmp_row)
+        axes[0, plane].set_title(f'(a) {titles[0]}, {plane_name}')
+        axes[1, plane].set_title(f'(b) {titles[1]}, {plane_name}')
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
 def tracking(out: Path, args) -> dict:
     reference = paper_reference()
     setup = make_setup(mpc=MpcParams(backend=args.backend))
     log = run_walk(reference, setup)
     result = summary(log)
-    fig, axes = plt.subplots(2, 2, figsize=(12, 7))
-    for plane in (0, 1):
-        plot_masses(axes[0, plane], log, plane)
-        plot_zmp(axes[1, plane], log, plane)
-    axes[0, 0].set_title('(a) masses, sagittal')
-    axes[0, 1].set_title('(a) masses, frontal')
-    axes[1, 0].set_title('(b) reference and real ZMP, sagittal')
-    axes[1, 1].set_title('(b) reference and real ZMP, frontal')
-    fig.tight_layout()
-    fig.savefig(out / 'tracking.png', dpi=130)
-    plt.close(fig)
+    save_walk_figure(out / 'tracking.png', log, ('masses', 'reference and real ZMP'))
     _write(out / 'tracking.json', result)
     return result
 
@@ -193,17 +197,9 @@ def noise(out: Path, args) -> dict:
     result['torso_estimate_rms_m'] = np.sqrt(np.mean(
         (log.estimate[:, :, 3] - log.state[:, :, 3]) ** 2, axis=0)).tolist()
     result['noise_model'] = 'Gaussian, sigma = 0.05/3 m, clipped at +-0.05 m, on all outputs'
-    fig, axes = plt.subplots(2, 2, figsize=(12, 7))
-    for plane in (0, 1):
-        plot_masses(axes[0, plane], log, plane, estimated=True)
-        plot_zmp(axes[1, plane], log, plane, zmp_row=setup.controller_model.zmp_row)
-    axes[0, 0].set_title('(a) real and estimated masses, sagittal')
-    axes[0, 1].set_title('(a) real and estimated masses, frontal')
-    axes[1, 0].set_title('(b) real and estimated ZMP, sagittal')
-    axes[1, 1].set_title('(b) real and estimated ZMP, frontal')
-    fig.tight_layout()
-    fig.savefig(out / 'noise.png', dpi=130)
-    plt.close(fig)
+    save_walk_figure(out / 'noise.png', log, ('real and estimated masses',
+                                              'real and estimated ZMP'),
+                     estimated=True, zmp_row=setup.controller_model.zmp_row)
     _write(out / 'noise.json', result)
     return result
 
