@@ -1,5 +1,6 @@
 """The bag recorder: real rosbag2 bags read back by independent readers, with real DDS."""
 import json
+import re
 from pathlib import Path
 import shutil
 import signal
@@ -297,3 +298,60 @@ def test_recorder_process_refuses_to_overwrite_a_bag(tmp_path):
                             env=ros_environment(), capture_output=True, text=True, timeout=30)
     assert result.returncode == 2
     assert 'exists already' in result.stderr and 'Traceback' not in result.stderr
+
+
+def test_a_recorder_killed_mid_way_leaves_a_bag_that_reindex_recovers_on_sim_time(
+        ros_context, executor, processes, tmp_path):
+    """kill -9 of `record.py --use-sim-time`: every message flushed before is recovered, the
+    ones received before the first /clock tick are stamped with it (none with 0), and the
+    stamps of a topic never go back."""
+    from builtin_interfaces.msg import Time
+    from rosgraph_msgs.msg import Clock
+    from biped_tools.recording.mcap_scan import scan_mcap
+    source = executor.track(rclpy.create_node('record_test_kill', context=ros_context))
+    states = source.create_publisher(WalkingState, 'walking_state', BURST)
+    clock = source.create_publisher(Clock, '/clock', 10)
+    bag = tmp_path / 'bag'
+    process = processes.start([PYTHON, RECORD, '-o', str(bag), '--use-sim-time',
+                               'walking_state'], stdout=subprocess.PIPE,
+                              stderr=subprocess.STDOUT, text=True)
+    assert wait_for_subscribers(executor, states, timeout=15)
+    assert wait_for_subscribers(executor, clock, timeout=15)
+    for i in range(10):   # before the clock runs
+        states.publish(walking_state(i))
+    spin_until(executor, lambda: False, timeout=1.0)
+    t = 5.0
+    for i in range(10, 60):
+        t += 0.01
+        clock.publish(Clock(clock=Time(sec=int(t), nanosec=int(round((t % 1) * 1e9)))))
+        states.publish(walking_state(i))
+        executor.spin_once(timeout_sec=0.005)
+    # With no message coming, the recorder's timer flushes everything to the file.
+    mcap_file = bag / 'bag.mcap'
+
+    def on_disk() -> int:
+        return len(scan_mcap(mcap_file).messages) if mcap_file.exists() else 0
+    assert spin_until(executor, lambda: on_disk() == 60, timeout=30), on_disk()
+    for i in range(60, 80):   # a burst the recorder may not flush before it dies
+        states.publish(walking_state(i))
+    process.kill()
+    output, _ = process.communicate(timeout=15)
+    assert not (bag / 'metadata.yaml').exists()
+    early = re.search(r'writing (\d+) messages received before its first tick', output)
+    assert early and int(early.group(1)) >= 1, output
+
+    result = subprocess.run([PYTHON, RECORD, 'reindex', str(bag)], env=ros_environment(),
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert 'rebuilt bag.mcap and metadata.yaml' in result.stdout
+    from rosbags.highlevel import AnyReader
+    with AnyReader([bag]) as reader:
+        rows = [(stamp, reader.deserialize(raw, c.msgtype).step_index)
+                for c, stamp, raw in reader.messages()]
+    indices = [index for _, index in rows]
+    assert 60 <= len(indices) <= 80
+    assert indices == list(range(len(indices)))
+    stamps = [stamp for stamp, _ in rows]
+    assert min(stamps) >= 5 * 10**9
+    assert stamps == sorted(stamps)
+    assert topic_metadata(bag)['/walking_state']['message_count'] == len(indices)

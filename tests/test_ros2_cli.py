@@ -60,3 +60,56 @@ def test_topic_pub_with_a_bad_field_exits_2_without_publishing():
                             env=ros_environment(), capture_output=True, text=True, timeout=30)
     assert result.returncode == 2
     assert "WalkCommand has no field 'x'" in result.stderr
+
+
+def fresh_shell_environment() -> dict:
+    """The environment of a shell that sourced nothing: what the venv's start-up must set."""
+    env = ros_environment()
+    for name in ('AMENT_PREFIX_PATH', 'LD_LIBRARY_PATH', 'PYTHONPATH', 'ROS_DISTRO',
+                 'ROS_VERSION', 'ROS_PYTHON_VERSION', '_ROS_WHEELS_BOOTSTRAP_COMPLETE'):
+        env.pop(name, None)
+    return env
+
+
+def test_a_fresh_venv_python_resolves_standard_and_workspace_packages_by_the_ament_index():
+    probe = ('import os, sys\n'
+             'from ament_index_python import get_package_share_directory as share\n'
+             'print(share("geometry_msgs")); print(share("biped_msgs"))\n'
+             'print(os.environ["AMENT_PREFIX_PATH"]); print(os.environ["ROS_DISTRO"])\n'
+             'print(sys.prefix)\n')
+    result = subprocess.run([PYTHON, '-c', probe], env=fresh_shell_environment(),
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    geometry, biped, prefixes, distro, venv = result.stdout.split('\n')[:5]
+    assert geometry == f'{venv}/share/geometry_msgs'
+    assert biped == str(REPO / 'ros2_ws' / 'install' / 'biped_msgs' / 'share' / 'biped_msgs')
+    # the workspace overlays the venv, as sourcing the underlay, then the workspace, orders them
+    prefixes = prefixes.split(':')
+    assert prefixes[-1] == venv and str(REPO / 'ros2_ws' / 'install' / 'biped_msgs') in prefixes
+    assert distro == 'jazzy'
+
+
+@pytest.mark.parametrize('name, words', [
+    ('geometry_msgs/msg/Twist', 'Vector3  linear'),
+    ('biped_msgs/msg/WalkCommand', 'uint8 command'),
+    ('std_srvs/srv/Trigger', 'string message'),
+])
+def test_interface_show_finds_the_definition_through_the_ament_index(name, words):
+    result = subprocess.run([PYTHON, CLI, 'interface', 'show', name],
+                            env=fresh_shell_environment(), capture_output=True, text=True,
+                            timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert words in result.stdout
+
+
+@pytest.mark.parametrize('name, code, words', [
+    ('nopkg/msg/X', 1, "package 'nopkg' not found"),
+    ('geometry_msgs/msg/Nope', 1, 'no '),
+    ('geometry_msgs/Twist', 2, 'expected package/msg|srv|action/Type'),
+])
+def test_interface_show_of_an_unknown_type_is_a_clear_error(name, code, words):
+    result = subprocess.run([PYTHON, CLI, 'interface', 'show', name],
+                            env=fresh_shell_environment(), capture_output=True, text=True,
+                            timeout=60)
+    assert result.returncode == code
+    assert words in result.stderr and 'Traceback' not in result.stderr

@@ -1,4 +1,5 @@
-"""A small stand-in for ros2cli (not installable here): topic pub, topic echo, service call.
+"""A small stand-in for ros2cli (not installable here): topic pub, topic echo, service call,
+interface show.
 
 The arguments are those of `ros2`, so a line written for a full ROS install works with this tool
 by replacing `ros2` with `.venv/bin/python scripts/ros2_cli.py`:
@@ -9,10 +10,12 @@ by replacing `ros2` with `.venv/bin/python scripts/ros2_cli.py`:
       geometry_msgs/msg/PoseStamped "{header: {frame_id: map}, pose: {position: {x: 2.0}}}"
   ros2_cli.py topic echo --once walking_state biped_msgs/msg/WalkingState
   ros2_cli.py service call push biped_msgs/srv/Push "{force: {x: 80.0}, duration: 0.1}"
+  ros2_cli.py interface show geometry_msgs/msg/Twist
 
 Values come as YAML; a Header given as `auto` and a Time given as `now` get the current time.
 """
 import argparse
+from pathlib import Path
 import sys
 import time
 
@@ -188,6 +191,28 @@ def service_call(node, args) -> int:
     return 0
 
 
+def interface_show(args) -> int:
+    """Print an interface's definition, found as `ros2 interface show` finds it: through the
+    ament index (AMENT_PREFIX_PATH) to <share>/<package>/<msg|srv|action>/<Type>.<kind>."""
+    from ament_index_python.packages import (get_package_share_directory,
+                                             PackageNotFoundError)
+    parts = args.type.split('/')
+    if len(parts) != 3 or parts[1] not in ('msg', 'srv', 'action') or not all(parts):
+        raise ValueError(f'type {args.type!r}: expected package/msg|srv|action/Type')
+    package, kind, name = parts
+    try:
+        share = Path(get_package_share_directory(package))
+    except (PackageNotFoundError, ValueError) as error:
+        print(f'error: {error}', file=sys.stderr)
+        return 1
+    path = share / kind / f'{name}.{kind}'
+    if not path.is_file():
+        print(f'error: {args.type}: no {path}', file=sys.stderr)
+        return 1
+    print(path.read_text().rstrip('\n'))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -227,11 +252,21 @@ def build_parser() -> argparse.ArgumentParser:
     call.add_argument('values', nargs='?', default='')
     call.add_argument('--timeout', type=float, default=10.0)
     call.set_defaults(run=service_call)
+    interface = groups.add_parser('interface').add_subparsers(dest='verb', required=True)
+    show = interface.add_parser('show', help='print the definition of an interface type')
+    show.add_argument('type', help='e.g. geometry_msgs/msg/Twist')
+    show.set_defaults(run=interface_show, offline=True)
     return parser
 
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    if getattr(args, 'offline', False):  # needs no node
+        try:
+            return args.run(args)
+        except ValueError as error:
+            print(f'error: {error}', file=sys.stderr)
+            return 2
     import rclpy
     from rclpy.signals import SignalHandlerOptions
     # Python's own signal behaviour: Ctrl-C raises KeyboardInterrupt, SIGTERM ends the process

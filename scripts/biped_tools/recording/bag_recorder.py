@@ -3,25 +3,33 @@
 The recorder discovers the awaited topics' publishers (every DISCOVERY_PERIOD s until all are
 seen; with record_all, any new topic), subscribes with the QoS that matches them (so latched
 data such as `map` and `footstep_plan` is recorded too), and hands the raw CDR bytes to a
-BagWriter. In-process use (demo, scenarios, tests):
+BagWriter, which flushes them to the file regularly (a killed recorder leaves a bag that
+`record.py reindex` recovers). Messages are stamped with the node clock's receive time; on sim
+time that clock reads 0 until the first /clock tick, so messages arriving before it are held
+(at most MAX_EARLY) and written, stamped with the first tick's time, once the clock runs.
+In-process use (demo, scenarios, tests):
 
   recorder = BagRecorder(node, 'output/bags/run1', topics=['walking_state', 'cmd_vel'])
   ... spin node's executor ...
   recorder.close(executor)   # drains what has arrived, then writes the index and metadata
 """
+from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 import re
 import time
 from typing import Callable, Dict, Iterable, List, Optional, Sequence
 
-from biped_tools.recording.bag_writer import BagWriter
+from biped_tools.recording.bag_writer import BagWriter, FLUSH_PERIOD
 from biped_tools.recording.errors import RecordError
 from biped_tools.recording.message_types import import_message_class, TypeRegistry
 from biped_tools.recording.topic_subscription import adapted_qos, resolve_topic
 
 # Discovery poll period while topics are still awaited (s); discovery itself takes 0-2.6 s.
 DISCOVERY_PERIOD = 0.2
+# Messages held before the clock runs (sim time before the first /clock tick); more are dropped
+# and counted.
+MAX_EARLY = 10000
 
 
 @dataclass
@@ -45,6 +53,7 @@ class RecordSummary:
     topics: List[TopicRecord] = field(default_factory=list)
     waiting: List[str] = field(default_factory=list)
     errors: Dict[str, str] = field(default_factory=dict)
+    dropped_before_clock: int = 0  # messages never written: the clock did not run (in time)
 
     @property
     def message_count(self) -> int:
@@ -61,6 +70,9 @@ class RecordSummary:
                f'{len(self.topics)} topics']
         out += [f'  {topic.ljust(width)}  {count.rjust(7)}  {kind.ljust(type_width)}'.rstrip()
                 for topic, kind, count in rows]
+        if self.dropped_before_clock:
+            out.append(f'  {self.dropped_before_clock} messages not written: they arrived '
+                       f'before the first clock tick and the clock never ran (or > {MAX_EARLY})')
         return out
 
 
@@ -68,9 +80,11 @@ class BagRecorder:
     """Records topics of a node's graph into a rosbag2 directory.
 
     The caller spins the node (any executor); messages arrive as raw CDR bytes and are written
-    unchanged with the node clock's receive time (sim time when the node uses it). Call
-    `close()` (or use the recorder as a context manager) to write the index and metadata.yaml:
-    a bag that is not closed is not readable.
+    unchanged with the node clock's receive time (sim time when the node uses it; messages
+    that arrive while that clock reads 0, before the first /clock tick, are held and stamped
+    with the first tick's time). Call `close()` (or use the recorder as a context manager) to
+    write the index and metadata.yaml; a bag whose recorder was killed needs
+    `biped_tools.recording.bag_reindex.reindex` first.
 
     :param node: the rclpy node whose subscriptions record
     :param output: the bag directory to create (must not exist)
@@ -80,6 +94,7 @@ class BagRecorder:
     :param exclude: regular expression of full topic names never recorded (with record_all)
     :param storage: 'mcap' or 'sqlite3'
     :param max_messages: stop writing after this many messages in total (0: no limit)
+    :param flush_period: seconds between flushes to the file: a kill loses at most that much
     :param registry: type definitions (default: everything installed here)
     :param log: called with one line of text per event (default: the node's logger)
     :raises RecordError: for an invalid topic name, an unknown storage or an existing output
@@ -87,7 +102,7 @@ class BagRecorder:
 
     def __init__(self, node, output, topics: Iterable[str] = (), record_all: bool = False,
                  exclude: Optional[str] = None, storage: str = 'mcap', max_messages: int = 0,
-                 registry: Optional[TypeRegistry] = None,
+                 flush_period: float = FLUSH_PERIOD, registry: Optional[TypeRegistry] = None,
                  log: Optional[Callable[[str], None]] = None) -> None:
         if max_messages < 0:
             raise RecordError(f'max_messages {max_messages}: expected >= 0')
@@ -105,11 +120,15 @@ class BagRecorder:
         self._log = log or (lambda text: node.get_logger().info(text))
         self._written = 0
         self._closed = False
-        self.writer = BagWriter(output, storage)
+        self._early = deque()  # (record, data) received before the clock ran
+        self._dropped_early = 0
+        self.writer = BagWriter(output, storage, flush_period)
         from rclpy.clock import Clock, ClockType
-        # A steady clock: with use_sim_time, a ROS-time timer would wait for /clock.
+        # Steady clocks: with use_sim_time, a ROS-time timer would wait for /clock.
         self._timer = node.create_timer(DISCOVERY_PERIOD, self.discover,
                                         clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._flush_timer = node.create_timer(min(0.25, flush_period / 2.0), self._on_flush_timer,
+                                              clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.discover()
 
     @property
@@ -208,6 +227,26 @@ class BagRecorder:
         if self.done or self._closed:
             return
         stamp = self.node.get_clock().now().nanoseconds
+        if stamp <= 0:
+            # Sim time before the first /clock tick: a stamp of 0 would misplace the message.
+            if len(self._early) < MAX_EARLY:
+                self._early.append((record, data))
+            else:
+                self._dropped_early += 1
+            return
+        self._write_early(stamp)
+        self._write(record, stamp, data)
+
+    def _write_early(self, stamp: int) -> None:
+        """Write the messages held until the clock ran, stamped with its first reading."""
+        if self._early:
+            self._log(f'clock running: writing {len(self._early)} messages received before '
+                      f'its first tick, stamped {stamp * 1e-9:.3f} s')
+        while self._early and not self.done:
+            record, data = self._early.popleft()
+            self._write(record, stamp, data)
+
+    def _write(self, record: TopicRecord, stamp: int, data: bytes) -> None:
         try:
             written = self.writer.write(record.connection, stamp, data)
         except RecordError as error:
@@ -217,6 +256,17 @@ class BagRecorder:
         if written:
             record.count += 1
             self._written += 1
+
+    def _on_flush_timer(self) -> None:
+        if self._closed:
+            return
+        stamp = self.node.get_clock().now().nanoseconds
+        if stamp > 0:
+            self._write_early(stamp)
+        try:
+            self.writer.flush_if_due()
+        except RecordError as error:
+            self._log(f'error: {error}')
 
     def drain(self, executor, quiet: float = 0.15, limit: float = 2.0) -> None:
         """Spin until no message has arrived for `quiet` s (at most `limit` s).
@@ -243,10 +293,16 @@ class BagRecorder:
         if not self._closed:
             if executor is not None:
                 self.drain(executor)
+            stamp = self.node.get_clock().now().nanoseconds
+            if stamp > 0:
+                self._write_early(stamp)
+            self._dropped_early += len(self._early)
+            self._early.clear()
             self._closed = True
             if self._timer is not None:
                 self.node.destroy_timer(self._timer)
                 self._timer = None
+            self.node.destroy_timer(self._flush_timer)
             for record in self.records.values():
                 self.node.destroy_subscription(record.subscription)
             self.writer.close()
@@ -258,7 +314,7 @@ class BagRecorder:
         if self.writer.error:
             errors['(bag)'] = self.writer.error
         return RecordSummary(self.path, self.storage, list(self.records.values()),
-                             self.waiting, errors)
+                             self.waiting, errors, self._dropped_early)
 
     def __enter__(self) -> 'BagRecorder':
         return self

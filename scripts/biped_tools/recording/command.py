@@ -9,10 +9,16 @@ install, rosbags' AnyReader and MCAP tools read the bag. Subscriptions take the 
   .venv/bin/python scripts/record.py walking_state cmd_vel footstep_plan     # until Ctrl-C
   .venv/bin/python scripts/record.py --all -x '/rosout|/parameter_events' --duration 10
   .venv/bin/python scripts/record.py -o output/bags/walk1 --storage sqlite3 walking_state
+  .venv/bin/python scripts/record.py reindex output/bags/walk1    # after a kill -9
 
 Named topics are recorded as soon as a publisher appears; topics appearing later are added
 when discovered. Ctrl-C, SIGTERM, --duration and --max-messages all close the bag properly.
-In-process use: biped_tools.recording.BagRecorder.
+What is recorded reaches the file every --flush-period s, so a recorder killed otherwise
+(SIGKILL, a crash) loses at most that much: `record.py reindex BAG_DIR` (like `ros2 bag
+reindex`) then rebuilds a readable file (MCAP index and footer) and metadata.yaml from every
+complete message written. With --use-sim-time, messages that arrive before the first /clock
+tick are held and written once the clock runs, stamped with its first time (none is stamped 0).
+In-process use: biped_tools.recording.BagRecorder and bag_reindex.reindex.
 """
 import argparse
 from datetime import datetime
@@ -24,7 +30,8 @@ import time
 
 from biped_tools.paths import OUTPUT
 from biped_tools.recording.bag_recorder import BagRecorder
-from biped_tools.recording.bag_writer import STORAGES
+from biped_tools.recording.bag_reindex import reindex
+from biped_tools.recording.bag_writer import FLUSH_PERIOD, STORAGES
 from biped_tools.recording.errors import RecordError
 from biped_tools.stop_signal import stop_on_signals
 
@@ -51,9 +58,39 @@ def build_parser() -> argparse.ArgumentParser:
                         help='stop after this many seconds (0: until Ctrl-C / SIGTERM)')
     parser.add_argument('--max-messages', type=int, default=0,
                         help='stop after this many messages in total (0: no limit)')
+    parser.add_argument('--flush-period', type=float, default=FLUSH_PERIOD, metavar='S',
+                        help='seconds between flushes to the file: a killed recorder loses at '
+                             'most that much (default %(default)s)')
     parser.add_argument('--use-sim-time', action='store_true',
-                        help='stamp messages with /clock time (as the simulated graph does)')
+                        help='stamp messages with /clock time (as the simulated graph does); '
+                             'messages arriving before the first /clock tick are buffered '
+                             'and written with its time, never stamped 0')
     return parser
+
+
+def build_reindex_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='record.py reindex',
+        description='Rebuild a bag whose recorder was killed, like `ros2 bag reindex`: a '
+                    'readable storage file (MCAP with index and footer, or sqlite3) and '
+                    'metadata.yaml, from every complete message that reached the file.')
+    parser.add_argument('bag', type=Path, help='the bag directory')
+    parser.add_argument('--force', action='store_true',
+                        help='rewrite even a bag that was closed properly')
+    return parser
+
+
+def reindex_main(argv) -> int:
+    """:return: 0 rebuilt (or complete already), 1 nothing could be read"""
+    args = build_reindex_parser().parse_args(argv)
+    try:
+        result = reindex(args.bag, force=args.force)
+    except RecordError as error:
+        print(f'[record] error: {error}', file=sys.stderr)
+        return 1
+    for line in result.lines():
+        print(f'[record] {line}')
+    return 0
 
 
 def run(args, node, executor, stop: threading.Event) -> int:
@@ -70,7 +107,8 @@ def run(args, node, executor, stop: threading.Event) -> int:
     try:
         recorder = BagRecorder(node, args.output or default_output(), topics=args.topics,
                                record_all=args.all, exclude=args.exclude_regex,
-                               storage=args.storage, max_messages=args.max_messages, log=log)
+                               storage=args.storage, max_messages=args.max_messages,
+                               flush_period=args.flush_period, log=log)
     except RecordError as error:
         print(f'[record] error: {error}', file=sys.stderr)
         return 2
@@ -92,12 +130,18 @@ def run(args, node, executor, stop: threading.Event) -> int:
 
 
 def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ['reindex']:
+        return reindex_main(argv[1:])
     args = build_parser().parse_args(argv)
     if not args.topics and not args.all:
         print('[record] error: name topics to record or give --all', file=sys.stderr)
         return 2
     if args.duration < 0 or args.max_messages < 0:
         print('[record] error: --duration and --max-messages must be >= 0', file=sys.stderr)
+        return 2
+    if not args.flush_period > 0:
+        print('[record] error: --flush-period must be > 0', file=sys.stderr)
         return 2
     # The bag is then closed by run(), never left half-written by rclpy's SIGINT handling.
     stop = stop_on_signals()
