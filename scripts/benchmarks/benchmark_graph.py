@@ -22,7 +22,8 @@ import statistics
 import sys
 import time
 
-from biped_tools.graph_session import ALL_NODES, close_client, GraphSession, stamp_seconds
+from biped_tools.graph_session import (ALL_NODES, close_client, COMMAND_LISTENERS,
+                                       GraphSession, stamp_seconds)
 from biped_tools.node_graph import GraphOptions, NodeGraph
 
 WARM_UP = 1.5  # simulated s of walking before measuring
@@ -118,7 +119,7 @@ class MinimalObserver:
 
     def start_walking(self) -> None:
         from biped_msgs.msg import WalkCommand
-        subscribed = lambda: {'state_machine', 'footstep_planner'} <= {  # noqa: E731
+        subscribed = lambda: set(COMMAND_LISTENERS) <= {  # noqa: E731
             info.node_name for info in self.node.get_subscriptions_info_by_topic('/walk_command')}
         if not self.spin_until(subscribed, 15.0):
             raise TimeoutError('nobody subscribes to walk_command')

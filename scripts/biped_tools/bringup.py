@@ -4,9 +4,16 @@ Starts each selected node with its parameter file, waits until every node is on 
 forwards their logs with a [node] prefix, and stops the whole graph (SIGINT, wait, SIGKILL) on
 Ctrl-C / SIGTERM, or as soon as one node dies, naming it.
 
+The map_server node serves the map the planner and the simulator use, latched on `map`: the
+file given with --map (nav2 map_server format: a YAML file naming a PGM/PNG image, with
+resolution, origin, occupied_thresh, free_thresh, negate, mode), or else an empty map around
+the robot's start (so a goal_pose can be sent at once). A map file that cannot be used stops
+map_server at start with an error naming the file and field, and with it the graph.
+
   .venv/bin/python scripts/bringup.py                      # every node, headless
+  .venv/bin/python scripts/bringup.py --sim-time --map FILE.yaml -p simulator:start_x:=0.5
   .venv/bin/python scripts/bringup.py --nodes state_machine --domain-id 7
-  .venv/bin/python scripts/bringup.py --gui --backend pybullet -p simulator:real_time:=true
+  .venv/bin/python scripts/bringup.py --gui --sim-time -p simulator:lockstep:=false
 """
 import argparse
 from pathlib import Path
@@ -52,6 +59,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--gui', action='store_true', help='open the simulator window')
     parser.add_argument('--sim-time', action='store_true',
                         help='every node follows the simulator\'s /clock')
+    parser.add_argument('--map', type=Path, default=None, metavar='FILE.yaml',
+                        help='map for map_server, in the nav2 map_server format (YAML + '
+                             'PGM/PNG); default: an empty map around the start pose')
     parser.add_argument('--keep-going', action='store_true',
                         help='when a node dies, keep the others running')
     parser.add_argument('--timeout', type=float, default=30.0,
@@ -64,11 +74,19 @@ def main(argv=None) -> int:
     if args.domain_id is not None and not 0 <= args.domain_id <= 101:
         print(f'[bringup] error: --domain-id {args.domain_id} outside [0, 101]', file=sys.stderr)
         return 2
-    options = GraphOptions(nodes=args.nodes or available_nodes(),
-                           params_files=parse_params_files(args.params_file),
+    nodes = args.nodes or available_nodes()
+    if args.map is not None:
+        if not args.map.is_file():
+            print(f'[bringup] error: --map {args.map}: no such file', file=sys.stderr)
+            return 2
+        if 'map_server' not in nodes:
+            print('[bringup] error: --map needs the map_server node', file=sys.stderr)
+            return 2
+    options = GraphOptions(nodes=nodes, params_files=parse_params_files(args.params_file),
                            overrides=parse_overrides(args.param), domain_id=args.domain_id,
                            backend=args.backend, gui=args.gui, use_sim_time=args.sim_time,
-                           keep_going=args.keep_going)
+                           keep_going=args.keep_going,
+                           map_file=args.map.resolve() if args.map else None)
     stop = stop_on_signals()
     try:
         graph = NodeGraph(options)

@@ -1,9 +1,10 @@
 """The main job: the humanoid walks from START to GOAL around obstacles, through the node graph.
 
-Brings up the whole graph headless in lockstep (simulator, state machine, A*/footstep planner,
-reference generator, MPC controller), publishes the paper's START -> GOAL map, sends the goal
-as a user would (goal_pose), records a rosbag2 of the run, and writes plots (map, A* path,
-footsteps, COM; ZMP against the support polygon) and summary.json to output/demo/.
+Brings up the whole graph headless in lockstep (simulator, map server, state machine, A*/footstep
+planner, reference generator, MPC controller) with the paper's START -> GOAL map served from its
+nav2 map file (biped_planner's maps/paper_start_goal.yaml), sends the goal as a user would
+(goal_pose), records a rosbag2 of the run, and writes plots (map, A* path, footsteps, COM; ZMP
+against the support polygon) and summary.json to output/demo/.
 """
 import argparse
 import json

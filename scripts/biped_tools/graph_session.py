@@ -1,8 +1,9 @@
 """Drive the running node graph as a user would, and keep what it publishes.
 
-A GraphSession brings up the nodes (biped_tools.node_graph), records a rosbag2 of the run
-(biped_tools.recording), and offers the user's actions: publish a map, send a goal, a walk command,
-a velocity command, push the robot. It keeps the time series the plots and checks need
+A GraphSession brings up the nodes (biped_tools.node_graph; map_server serves a map file or an
+empty map around the start), records a rosbag2 of the run (biped_tools.recording), and offers
+the user's actions: publish a map, send a goal, a walk command, a velocity command, push the
+robot. It keeps the time series the plots and checks need
 (pelvis, COM, measured ZMP, support bounds, walking state, plans, controller diagnostics).
 Used by the demo, the scenario runner and the graph tests.
 """
@@ -20,9 +21,13 @@ RECORDED_TOPICS = ['walking_state', 'footstep_plan', 'plan', 'footstep_markers',
                    'reference_trajectory', 'controller_diagnostics', 'odom', 'zmp', 'com', 'imu',
                    'joint_states', 'joint_commands', 'left_foot_wrench', 'right_foot_wrench',
                    'walk_command', 'walk_command_status', 'cmd_vel', 'goal_pose', 'map']
-ALL_NODES = ['simulator', 'state_machine', 'footstep_planner', 'reference_generator',
-             'mpc_controller']
+ALL_NODES = ['simulator', 'map_server', 'state_machine', 'footstep_planner',
+             'reference_generator', 'mpc_controller']
 IDLE = WalkingState.IDLE
+# The nodes that take the user's commands (walk_command, goal_pose, cmd_vel): a command is sent
+# once all of them subscribe, so that none misses it. The state machine is the one entry point
+# (it asks the footstep planner for plans over plan_walk).
+COMMAND_LISTENERS = ('state_machine',)
 
 
 @dataclass
@@ -44,6 +49,9 @@ def stamp_seconds(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+VELOCITY_PERIOD = 0.1  # s of sim time between repeated cmd_vel messages (10 Hz teleop)
+
+
 def close_client(executor, node, context) -> None:
     """Tear down a client's ROS side: its node off the executor and destroyed, the executor
     shut down (each if it was made), then its context."""
@@ -62,14 +70,18 @@ class GraphSession:
 
     def __init__(self, domain_id: int, bag_dir: Optional[Path] = None, nodes=None,
                  overrides=None, backend: str = 'pybullet', gui: bool = False,
-                 keep_going: bool = False, log=print) -> None:
+                 keep_going: bool = False, map_file: Optional[Path] = None,
+                 log=print) -> None:
+        """:param map_file: the map map_server serves (nav2 YAML + image); None: an empty map
+            around the simulator's start pose"""
         self.log = log
         self.domain_id = domain_id
         self.graph = NodeGraph(GraphOptions(
             nodes=list(nodes or ALL_NODES), overrides=dict(overrides or {}),
             domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
-            keep_going=keep_going),
+            keep_going=keep_going, map_file=map_file),
             log=log)
+        self.map = None  # the last map received on `map` (an OccupancyGrid)
         self.bag_dir = bag_dir
         self.series = RunSeries()
         self.recorder = None
@@ -141,9 +153,19 @@ class GraphSession:
         node, s = self.node, self.series
         self.map_pub = node.create_publisher(OccupancyGrid, 'map', QoSProfile(
             depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+        def on_map(m):
+            from biped_planner.node_support.map_messages import grid_from_msg
+            try:
+                self.map = grid_from_msg(m)
+            except ValueError as error:  # a malformed map (the bad-input tests send them)
+                self.log(f'[session] map ignored: {error}')
+
+        node.create_subscription(OccupancyGrid, 'map', on_map, latched)
         self.goal_pub = node.create_publisher(PoseStamped, 'goal_pose', 10)
         self.command_pub = node.create_publisher(WalkCommand, 'walk_command', 10)
         self.cmd_vel_pub = node.create_publisher(Twist, 'cmd_vel', 10)
+        self._velocity, self._velocity_timer = None, None
         self.push_client = node.create_client(Push, 'push')
         self.terrain_client = node.create_client(SetTerrain, 'set_terrain')
 
@@ -218,16 +240,19 @@ class GraphSession:
         return odom is not None and odom.count > 0
 
     def wait_until_ready(self, timeout: float = 60.0) -> None:
-        """Every node talks: the controller answers, references flow, the bag records."""
+        """Every node talks: the controller answers, references flow, the map is served, the
+        bag records."""
+        serving = 'map_server' in self.graph.options.nodes
         ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and self.series.pelvis
                              and self.series.states and self.series.bounds
+                             and (self.map is not None or not serving)
                              and self.recording_odometry(), timeout)
         if not ok:
             raise TimeoutError(f'graph not ready after {timeout} s (controller cycles: '
                                f'{len(self.series.solve_times)}, states: '
                                f'{len(self.series.states)}, references: '
-                               f'{len(self.series.bounds)}, odometry recorded: '
-                               f'{self.recording_odometry()})')
+                               f'{len(self.series.bounds)}, map: {self.map is not None}, '
+                               f'odometry recorded: {self.recording_odometry()})')
 
     def phase(self) -> Optional[int]:
         return self.series.states[-1][1] if self.series.states else None
@@ -237,30 +262,51 @@ class GraphSession:
 
     # --- user actions -----------------------------------------------------------------------
     def publish_map(self, grid) -> None:
+        """Publish a map over map_server's: the nodes take the last map they receive. (A map
+        known before the start is better served by map_server: GraphSession(map_file=...).)"""
         from biped_planner.node_support.map_messages import grid_to_msg
         self.map_pub.publish(grid_to_msg(grid, 'map', self.node.get_clock().now().to_msg()))
         self.wait_for_nodes_on('/map', ('footstep_planner', 'simulator'))
 
     def send_goal(self, x: float, y: float, yaw: float) -> None:
+        self.stop_velocity()
         from geometry_msgs.msg import PoseStamped
         msg = PoseStamped()
         msg.header.frame_id = 'map'
         msg.header.stamp = self.node.get_clock().now().to_msg()
         msg.pose.position.x, msg.pose.position.y = x, y
         _, _, msg.pose.orientation.z, msg.pose.orientation.w = map(float, quaternion_from_yaw(yaw))
-        self.wait_for_nodes_on('/goal_pose', ('footstep_planner', 'state_machine'))
+        self.wait_for_nodes_on('/goal_pose', COMMAND_LISTENERS)
         self.goal_pub.publish(msg)
 
+    def wait_for_command_listeners(self) -> None:
+        """Wait until every node that takes walk commands subscribes to walk_command."""
+        self.wait_for_nodes_on('/walk_command', COMMAND_LISTENERS)
+
     def send_command(self, **fields) -> None:
-        self.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
+        self.stop_velocity()
+        self.wait_for_command_listeners()
         self.command_pub.publish(WalkCommand(**fields))
 
     def send_velocity(self, vx: float = 0.0, vy: float = 0.0, wz: float = 0.0) -> None:
+        """Teleop: publish this velocity now and every VELOCITY_PERIOD (sim time) until the
+        next command, as a teleop does (the state machine stops a walk whose cmd_vel falls
+        silent)."""
         from geometry_msgs.msg import Twist
         msg = Twist()
         msg.linear.x, msg.linear.y, msg.angular.z = vx, vy, wz
-        self.wait_for_nodes_on('/cmd_vel', ('footstep_planner', 'state_machine'))
+        self.wait_for_nodes_on('/cmd_vel', COMMAND_LISTENERS)
+        self._velocity = msg
         self.cmd_vel_pub.publish(msg)
+        if self._velocity_timer is None:
+            self._velocity_timer = self.node.create_timer(
+                VELOCITY_PERIOD, lambda: self.cmd_vel_pub.publish(self._velocity))
+
+    def stop_velocity(self) -> None:
+        """Stop repeating the last send_velocity (the walk then stops after cmd_vel_timeout)."""
+        if self._velocity_timer is not None:
+            self.node.destroy_timer(self._velocity_timer)
+            self._velocity_timer = None
 
     def push(self, fx: float, fy: float = 0.0, duration: float = 0.1,
              at: Optional[float] = None) -> bool:

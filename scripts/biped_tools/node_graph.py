@@ -38,6 +38,7 @@ class NodeSpec:
 # Start order: producers of latched data first.
 KNOWN_NODES: Dict[str, NodeSpec] = {spec.name: spec for spec in [
     NodeSpec('simulator', 'biped_sim', 'simulator'),
+    NodeSpec('map_server', 'biped_planner', 'map_server'),
     NodeSpec('state_machine', 'biped_planner', 'state_machine'),
     NodeSpec('footstep_planner', 'biped_planner', 'footstep_planner'),
     NodeSpec('reference_generator', 'biped_planner', 'reference_generator'),
@@ -68,6 +69,8 @@ class GraphOptions:
     :param use_sim_time: every node follows the simulator's /clock
     :param keep_going: when a node dies, report it and keep the others running (to test how
         the graph copes); by default the whole graph stops
+    :param map_file: the map the map_server serves (a nav2 map YAML file); None: an empty map
+        centred on the simulator's start pose
     """
 
     nodes: List[str]
@@ -78,6 +81,7 @@ class GraphOptions:
     gui: bool = False
     use_sim_time: bool = False
     keep_going: bool = False
+    map_file: Optional[Path] = None
 
 
 class NodeGraph:
@@ -119,8 +123,22 @@ class NodeGraph:
         if name == 'simulator':
             args += ['-p', f'backend:={self.options.backend}',
                      '-p', f'gui:={str(self.options.gui).lower()}']
+        if name == 'map_server':
+            args += self.map_server_arguments()
         for override in self.options.overrides.get(name, []):
             args += ['-p', override]
+        return args
+
+    def map_server_arguments(self) -> List[str]:
+        """The map file, and the empty map's centre: the simulator's start (as a launch file
+        passes one argument to two nodes)."""
+        args = []
+        if self.options.map_file is not None:
+            args += ['-p', f'yaml_filename:={Path(self.options.map_file).resolve()}']
+        for override in self.options.overrides.get('simulator', []):
+            name, _, value = override.partition(':=')
+            if name in ('start_x', 'start_y'):
+                args += ['-p', f'empty_map.center_{name[-1]}:={value}']
         return args
 
     def start(self) -> None:

@@ -1,15 +1,19 @@
 """Node-level tests of the MPC controller with the real simulator node, in process."""
+import math
+
 from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory
 from nav_msgs.msg import Odometry
+import numpy as np
 import pytest
 import rclpy
 from rclpy.parameter import Parameter
+from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 
 from biped_mpc.nodes.mpc_controller import MpcControllerNode
 from biped_planner.footsteps import Footstep
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
-from biped_planner.sides import LEFT, RIGHT
+from biped_planner.sides import LEFT, RIGHT, SUPPORT_DOUBLE
 from biped_planner.standing_reference import standing_window
 from biped_planner.walking_reference import ReferenceParams
 from biped_sim.nodes.simulator import SimulatorNode
@@ -85,3 +89,245 @@ def test_a_malformed_reference_is_rejected_and_control_goes_on(loop):
         count = len(g['commands'].messages)
         g['commands'].wait_for(g['executor'], lambda m: len(m) > count, timeout=5)
     assert g['diag'].messages[-1].status == ControllerDiagnostics.OK
+
+
+# --- safety: lost references, bad sensors, a reset ---------------------------------------------
+def seconds(stamp) -> float:
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
+class RosoutLines:
+    """The log lines of every node (rcl_interfaces/Log on /rosout)."""
+
+    def __init__(self, node):
+        from rcl_interfaces.msg import Log
+        self.lines = []
+        node.create_subscription(Log, '/rosout', lambda m: self.lines.append(
+            f'[{m.name}] {m.msg}'), 100)
+
+    def has(self, *words) -> bool:
+        return any(all(word in line for word in words) for line in self.lines)
+
+
+@pytest.fixture
+def walk_loop(ros_context, executor):
+    """Simulator + controller, the controller waiting 10 ms of wall time for a reference (the
+    test plays the reference generator, and then stops)."""
+    executor.track(SimulatorNode(context=ros_context))
+    executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
+    client = executor.track(rclpy.create_node('mpc_walk_client', context=ros_context))
+    from geometry_msgs.msg import PoseArray, WrenchStamped
+    g = dict(client=client, executor=executor, rosout=RosoutLines(client))
+    g['diag'] = Collector(client, ControllerDiagnostics, 'controller_diagnostics', 100)
+    g['commands'] = Collector(client, JointState, 'joint_commands', 100)
+    g['odom'] = Collector(client, Odometry, 'odom', 100)
+    g['soles'] = Collector(client, PoseArray, 'sole_poses', 100)
+    g['feet'] = [Collector(client, WrenchStamped, f'{side}_foot_wrench', 100)
+                 for side in ('left', 'right')]
+    g['clock'] = Collector(client, Clock, '/clock', 100)
+    g['refs'] = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+    assert wait_for_subscribers(executor, g['refs'], timeout=15)
+    return g
+
+
+def clock_time(g) -> float:
+    """The simulator's time (its /clock: the tests publish odometry of their own)."""
+    return seconds(g['clock'].messages[-1].clock)
+
+
+def play_references(g, source, until: float) -> None:
+    """Publish source(t) for every sensor time t (as the reference generator does) until t."""
+    from builtin_interfaces.msg import Time
+    while True:
+        count = len(g['clock'].messages)
+        assert g['clock'].wait_for(g['executor'], lambda m: len(m) > count, timeout=5)
+        t = clock_time(g)
+        if t >= until:
+            return
+        window = source(t)
+        g['refs'].publish(reference_trajectory_msg(window, 1, 0.02, Time(
+            sec=int(t), nanosec=int(round((t - int(t)) * 1e9)))))
+
+
+def spin_sim_time(g, seconds_of_sim: float, timeout: float = 60.0) -> None:
+    end = clock_time(g) + seconds_of_sim
+    assert g['clock'].wait_for(g['executor'], lambda m: seconds(m[-1].clock) >= end,
+                               timeout=timeout)
+
+
+def stands_on_both_feet(g) -> bool:
+    return min(f.messages[-1].wrench.force.z for f in g['feet']) > 50.0 and \
+        0.5 < g['odom'].messages[-1].pose.pose.position.z < 0.6
+
+
+def test_references_lost_mid_step_the_controller_finishes_the_step_and_stands(walk_loop):
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.step_timing import StepTiming
+    from biped_planner.walking_reference import WalkingReference
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    params = ReferenceParams(com_height=0.497, foot_length=0.2, foot_width=0.1)
+    play_references(g, lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(
+        RIGHT, 0.0, -0.07), params, t, 90, 0.02), clock_time(g) + 0.5)
+    footsteps = straight_footsteps(10, 0.1, 0.14)
+    walk = WalkingReference(footsteps, StepTiming(0.4, 0.2), params, t_start=clock_time(g))
+    # the references stop in the middle of the single support of step 3
+    single = walk.t_start + 1.0 + 3 * 0.6 + 0.2
+    play_references(g, lambda t: walk.sample(t, 90, 0.02), single)
+    t_lost = clock_time(g)
+    assert walk.sample(t_lost, 1, 0.02).support[0] != SUPPORT_DOUBLE  # a foot is in the air
+    spin_sim_time(g, 3.0)
+    holding = [d for d in g['diag'].messages if d.status == ControllerDiagnostics.HOLDING]
+    assert holding and 'reference_trajectory' in holding[-1].message
+    # 0.3 s (stale_timeout) after the last reference, not before
+    assert seconds(holding[0].header.stamp) - t_lost == pytest.approx(0.3, abs=0.05)
+    assert stands_on_both_feet(g)
+    # the swing foot went down where the reference landed it: on the next footstep
+    landed = sorted((p.position.x, p.position.y) for p in g['soles'].messages[-1].poses)
+    planned = sorted((f.x, f.y) for f in footsteps[4:6])
+    assert np.ravel(landed) == pytest.approx(np.ravel(planned), abs=0.02)
+    # and the robot stands there: the COM over the middle of the feet
+    pelvis = g['odom'].messages[-1].pose.pose.position
+    assert abs(pelvis.y) < 0.03
+
+
+def test_bad_sensor_messages_are_refused_the_previous_kept_and_the_robot_stands(walk_loop):
+    from geometry_msgs.msg import PointStamped, WrenchStamped
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    params = ReferenceParams(foot_length=0.2, foot_width=0.1)
+    stand = lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(  # noqa: E731
+        RIGHT, 0.0, -0.07), params, t, 90, 0.02)
+    play_references(g, stand, clock_time(g) + 0.3)
+    client = g['client']
+    publishers = {name: client.create_publisher(msg_type, name, 10) for name, msg_type in (
+        ('odom', Odometry), ('joint_states', JointState), ('zmp', PointStamped),
+        ('left_foot_wrench', WrenchStamped))}
+    for publisher in publishers.values():
+        assert wait_for_subscribers(g['executor'], publisher, timeout=15)
+
+    def bad_messages(t):
+        from builtin_interfaces.msg import Time
+        stamp = Time(sec=int(t), nanosec=int(round((t - int(t)) * 1e9)))
+        odom = Odometry()
+        odom.header.stamp, odom.header.frame_id, odom.child_frame_id = stamp, 'map', 'pelvis'
+        odom.pose.pose.position.x, odom.pose.pose.orientation.w = 1e30, 1.0
+        far = Odometry()
+        far.header.stamp, far.header.frame_id, far.child_frame_id = stamp, 'odom', 'pelvis'
+        far.pose.pose.orientation.w = 1.0
+        joints = JointState(name=list(g['commands'].messages[-1].name), position=[1e30] * 12)
+        joints.header.stamp = stamp
+        zmp = PointStamped()
+        zmp.header.stamp, zmp.header.frame_id = stamp, 'map'
+        zmp.point.x = math.inf
+        wrench = WrenchStamped()
+        wrench.header.stamp, wrench.header.frame_id = stamp, 'l_ankle_ft'
+        wrench.wrench.force.z = 1e30
+        old = Odometry()
+        old.header.frame_id, old.child_frame_id = 'map', 'pelvis'  # stamp 0: goes back
+        old.pose.pose.orientation.w = 1.0
+        return [('odom', odom), ('odom', far), ('odom', old), ('joint_states', joints),
+                ('zmp', zmp), ('left_foot_wrench', wrench)]
+
+    def stand_and_inject(t):
+        for name, msg in bad_messages(t):
+            publishers[name].publish(msg)
+        return stand(t)
+
+    play_references(g, stand_and_inject, clock_time(g) + 1.0)
+    play_references(g, stand, clock_time(g) + 0.5)
+    lines = g['rosout']
+    for words in (('odom rejected', 'workspace'), ('odom rejected', "'odom'"),
+                  ('odom rejected', 'goes back'), ('joint_states rejected', 'outside'),
+                  ('zmp rejected', 'not finite'), ('left_foot_wrench rejected', 'magnitude')):
+        assert lines.has(*words), words
+    assert stands_on_both_feet(g)
+    last = g['diag'].messages[-1]
+    assert last.status == ControllerDiagnostics.OK, last.message
+
+
+def test_malformed_references_are_refused(walk_loop):
+    from builtin_interfaces.msg import Time
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    t = clock_time(g)
+    stamp = Time(sec=int(t), nanosec=int(round((t - int(t)) * 1e9)))
+    good = standing_reference(g, t)
+    empty = ReferenceTrajectory()
+    empty.header.stamp, empty.dt = stamp, 0.02
+    other_dt = standing_reference(g, t)
+    other_dt.dt = 0.05
+    far = standing_reference(g, t)
+    far.left_foot_x = [1e6] * len(far.left_foot_x)
+    for msg in (empty, other_dt, far):
+        g['refs'].publish(msg)
+    spin_until(g['executor'], lambda: False, 0.5)
+    for words in (('reference_trajectory rejected', '0 samples'),
+                  ('reference_trajectory rejected', 'apart'),
+                  ('reference_trajectory rejected', 'workspace')):
+        assert g['rosout'].has(*words), words
+    g['refs'].publish(good)
+    assert g['commands'].wait_for(g['executor'], timeout=10)  # controls on the good one
+
+
+def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk_loop):
+    from biped_msgs.msg import WalkingState
+    from biped_msgs.srv import Push
+    from std_srvs.srv import Trigger
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    params = ReferenceParams(foot_length=0.2, foot_width=0.1)
+    stand = lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(  # noqa: E731
+        RIGHT, 0.0, -0.07), params, t, 90, 0.02)
+    play_references(g, stand, clock_time(g) + 0.3)
+    client = g['client']
+    states = client.create_publisher(WalkingState, 'walking_state', 10)
+    assert wait_for_subscribers(g['executor'], states, timeout=15)
+    states.publish(WalkingState(epoch=0))
+    push = Push.Request()
+    push.force.x, push.duration = 400.0, 0.2
+    assert call(g, Push, 'push', push).success
+    play_references(g, stand, clock_time(g) + 1.5)
+    assert g['odom'].messages[-1].pose.pose.position.z < 0.3  # fallen
+    assert call(g, Trigger, 'simulator/reset', Trigger.Request()).success
+    states.publish(WalkingState(epoch=1))
+    # no reference comes now: the controller stands on its feet by itself
+    spin_sim_time(g, 2.0)
+    assert any('reset (epoch 1)' in d.message for d in g['diag'].messages
+               if d.status == ControllerDiagnostics.HOLDING)
+    assert stands_on_both_feet(g)
+    assert g['rosout'].has('epoch 1', 'restarted from the sensors')
+    # a reference of other feet does not fit the stance: refused while it stands
+    away = lambda t: standing_window(Footstep(LEFT, 0.5, 0.07), Footstep(  # noqa: E731
+        RIGHT, 0.5, -0.07), params, t, 90, 0.02)
+    play_references(g, away, clock_time(g) + 0.3)
+    assert 'does not fit' in g['diag'].messages[-1].message
+    play_references(g, stand, clock_time(g) + 0.5)
+    assert g['diag'].messages[-1].status == ControllerDiagnostics.OK
+    assert stands_on_both_feet(g)
+
+
+def test_a_lost_simulator_is_reported(walk_loop):
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    simulator = next(n for n in g['executor'].get_nodes() if n.get_name() == 'simulator')
+    g['executor'].remove_node(simulator)  # silent from now on (destroyed at teardown)
+    count = len(g['diag'].messages)
+    assert g['diag'].wait_for(g['executor'], lambda m: any(
+        d.status == ControllerDiagnostics.HOLDING and 'joint_states' in d.message
+        for d in m[count:]), timeout=10)
+
+
+def window_of(t):
+    return standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(RIGHT, 0.0, -0.07),
+                           ReferenceParams(foot_length=0.2, foot_width=0.1), t, 90, 0.02)
+
+
+def call(g, srv_type, name, request, timeout=10.0):
+    client = g['client'].create_client(srv_type, name)
+    assert client.wait_for_service(timeout_sec=timeout)
+    future = client.call_async(request)
+    assert spin_until(g['executor'], future.done, timeout)
+    return future.result()

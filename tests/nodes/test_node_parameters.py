@@ -72,3 +72,26 @@ def test_every_parameter_has_a_description(executor, ros_context, node_class):
     described = node.describe_parameters(names)
     assert names and all(d.description for d in described), \
         [n for n, d in zip(names, described) if not d.description]
+
+
+READ_ONLY = [
+    (MpcControllerNode, 'solver', True),
+    (MpcControllerNode, 'tilt_gain', True),
+    (MpcControllerNode, 'stale_timeout', False),
+    (SimulatorNode, 'backend', True),
+    (SimulatorNode, 'real_time_factor', False),
+    (ReferenceGeneratorNode, 'com_height', True),
+    (ReferenceGeneratorNode, 'horizon', True),
+]
+
+
+@pytest.mark.parametrize('node_class, name, read_only', READ_ONLY,
+                         ids=[f'{c.__name__}-{n}' for c, n, _ in READ_ONLY])
+def test_parameters_read_at_start_only_are_declared_read_only(executor, ros_context,
+                                                              node_class, name, read_only):
+    node = executor.track(node_class(context=ros_context))
+    assert node.describe_parameters([name])[0].read_only == read_only
+    result = node.set_parameters([Parameter(name, value=node.get_parameter(name).value)])[0]
+    assert result.successful != read_only
+    if read_only:
+        assert 'read-only' in result.reason and name in result.reason

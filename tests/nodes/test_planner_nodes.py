@@ -1,8 +1,11 @@
 """Node-level tests of the footstep planner and the reference generator, with the state machine:
-real rclpy, real DDS, sim time driven by the test."""
+real rclpy, real DDS, sim time driven by the test. The user talks to the state machine only; it
+asks the planner for plans over plan_walk."""
 import math
 
-from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkCommand, WalkingState
+from biped_msgs.msg import (CommandStatus, FootstepPlan, ReferenceTrajectory, WalkCommand,
+                            WalkingState)
+from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
 import numpy as np
@@ -52,6 +55,7 @@ def graph(ros_context, executor):
     g['markers'] = Collector(client, MarkerArray, 'footstep_markers', LATCHED)
     g['refs'] = Collector(client, ReferenceTrajectory, 'reference_trajectory', 10)
     g['states'] = Collector(client, WalkingState, 'walking_state', 50)
+    g['statuses'] = Collector(client, CommandStatus, 'walk_command_status', 50)
     g['map'] = client.create_publisher(OccupancyGridMsg, 'map', LATCHED)
     g['odom'] = client.create_publisher(Odometry, 'odom', 10)
     g['goal'] = client.create_publisher(PoseStamped, 'goal_pose', 10)
@@ -59,6 +63,12 @@ def graph(ros_context, executor):
     g['cmd_vel'] = client.create_publisher(Twist, 'cmd_vel', 10)
     for name in ('odom', 'goal', 'command', 'cmd_vel'):
         assert wait_for_subscribers(executor, g[name], count=1, timeout=15), name
+    # exactly one node takes user intent: the state machine
+    for topic in ('walk_command', 'goal_pose', 'cmd_vel'):
+        assert [i.node_name for i in client.get_subscriptions_info_by_topic(topic)] == \
+            ['state_machine'], topic
+    g['plan_walk'] = client.create_client(PlanWalk, 'plan_walk')
+    assert g['plan_walk'].wait_for_service(timeout_sec=15)
     assert wait_for_subscribers(executor, g['clock'].publisher, count=3, timeout=15)
     grid, start, goal_pose = paper_start_goal_example()
     g['start'], g['goal_pose'] = start, goal_pose
@@ -67,6 +77,17 @@ def graph(ros_context, executor):
     g['odom'].publish(odometry(start.x, start.y, start.yaw))
     g['clock'].advance(0.1)
     return g
+
+
+def last_status(g, count, timeout=10.0) -> CommandStatus:
+    assert g['statuses'].wait_for(g['executor'], lambda m: len(m) > count, timeout), 'no status'
+    return g['statuses'].messages[-1]
+
+
+def call_plan_walk(g, request):
+    future = g['plan_walk'].call_async(request)
+    assert spin_until(g['executor'], future.done, 10.0)
+    return future.result()
 
 
 def latest_plan(g, timeout=10.0, count=None):
@@ -78,17 +99,20 @@ def latest_plan(g, timeout=10.0, count=None):
 def test_goto_plans_footsteps_around_obstacles_and_the_walk_gets_its_references(graph):
     g = graph
     target = g['goal_pose']
+    statuses = len(g['statuses'].messages)
     g['goal'].publish(goal(target.x, target.y, target.yaw))
     plan = latest_plan(g)
     assert plan.status == FootstepPlan.STATUS_OK and not plan.continuous
+    assert plan.request_id != 0  # it answers the state machine's request
+    status = last_status(g, statuses)
+    assert status.accepted and status.command == WalkCommand.GOTO
     last_two = plan.footsteps[-2:]
     middle = np.mean([[f.x, f.y] for f in last_two], axis=0)
     assert np.hypot(*(middle - [target.x, target.y])) < 0.02
     assert g['paths'].wait_for(g['executor'], timeout=5) and len(g['paths'].messages[-1].poses)
     assert g['markers'].wait_for(g['executor'], timeout=5)
     assert len(g['markers'].messages[-1].markers) == len(plan.footsteps) + 1  # + DELETEALL
-    g['command'].publish(WalkCommand(command=WalkCommand.START))
-    g['clock'].advance(1.5)
+    g['clock'].advance(1.5)  # the goal starts the walk on its plan
     refs = [r for r in g['refs'].messages if r.plan_id == plan.plan_id]
     assert refs, 'no reference for the plan'
     window = window_from_reference_msg(refs[-1])
@@ -100,18 +124,53 @@ def test_goto_plans_footsteps_around_obstacles_and_the_walk_gets_its_references(
     assert WalkingState.SINGLE_SUPPORT in phases
 
 
-@pytest.mark.parametrize('x, y, frame, code', [
-    (1.3, 0.5, 'map', FootstepPlan.ERROR_GOAL_OCCUPIED),
-    (9.0, 9.0, 'map', FootstepPlan.ERROR_GOAL_OUTSIDE_MAP),
-    (3.0, 3.0, 'odom', FootstepPlan.ERROR_UNKNOWN_FRAME),
-    (math.nan, 3.0, 'map', FootstepPlan.ERROR_INVALID_COMMAND),
+@pytest.mark.parametrize('x, y, code', [
+    (1.3, 0.5, FootstepPlan.ERROR_GOAL_OCCUPIED),
+    (9.0, 9.0, FootstepPlan.ERROR_GOAL_OUTSIDE_MAP),
 ])
-def test_bad_goals_give_a_failed_plan_with_its_error_code(graph, x, y, frame, code):
-    graph['goal'].publish(goal(x, y, frame=frame))
+def test_bad_goals_give_a_failed_plan_with_its_error_code(graph, x, y, code):
+    statuses = len(graph['statuses'].messages)
+    graph['goal'].publish(goal(x, y))
     plan = latest_plan(graph)
     assert plan.status == FootstepPlan.STATUS_FAILED
     assert plan.error_code == code
     assert plan.error_msg
+    status = last_status(graph, statuses)
+    assert status.error_code == CommandStatus.INVALID_VALUE
+    assert f'FootstepPlan error {code}' in status.error_msg
+    graph['clock'].advance(0.2)
+    assert graph['states'].messages[-1].phase == WalkingState.IDLE
+
+
+@pytest.mark.parametrize('x, y, frame, code', [
+    (3.0, 3.0, 'odom', FootstepPlan.ERROR_UNKNOWN_FRAME),
+    (3.0, 3.0, '', FootstepPlan.ERROR_UNKNOWN_FRAME),
+    (math.nan, 3.0, 'map', FootstepPlan.ERROR_INVALID_COMMAND),
+])
+def test_goals_the_state_machine_rejects_the_planner_rejects_too(graph, x, y, frame, code):
+    """The state machine answers them without asking the planner; the planner's service
+    checks its requests as well, with a failed plan and its error code."""
+    statuses, plans = len(graph['statuses'].messages), len(graph['plans'].messages)
+    graph['goal'].publish(goal(x, y, frame=frame))
+    assert last_status(graph, statuses).error_code == CommandStatus.INVALID_VALUE
+    graph['clock'].advance(0.2)
+    assert len(graph['plans'].messages) == plans
+    response = call_plan_walk(graph, PlanWalk.Request(
+        request_id=77, kind=PlanWalk.Request.KIND_GOAL, goal=goal(x, y, frame=frame)))
+    assert not response.accepted and response.error_code == code and response.error_msg
+    plan = latest_plan(graph, count=plans)
+    assert plan.status == FootstepPlan.STATUS_FAILED and plan.error_code == code
+    assert plan.request_id == 77
+
+
+def test_unknown_request_kinds_and_commands_are_refused_by_the_planner(graph):
+    bad_kind = call_plan_walk(graph, PlanWalk.Request(request_id=5, kind=9))
+    assert not bad_kind.accepted and 'unknown request kind 9' in bad_kind.error_msg
+    bad_command = PlanWalk.Request(request_id=6, kind=PlanWalk.Request.KIND_COMMAND)
+    bad_command.command.command = 42
+    response = call_plan_walk(graph, bad_command)
+    assert not response.accepted
+    assert response.error_code == FootstepPlan.ERROR_INVALID_COMMAND
 
 
 def test_a_malformed_map_is_rejected_and_goals_then_report_no_map(graph):
@@ -122,9 +181,12 @@ def test_a_malformed_map_is_rejected_and_goals_then_report_no_map(graph):
     bad.data = [0] * 7  # 100 cells announced
     graph['map'].publish(bad)
     graph['clock'].advance(0.2)
+    statuses = len(graph['statuses'].messages)
     graph['goal'].publish(goal(3.0, 3.0))
     plan = latest_plan(graph)
     assert plan.error_code == FootstepPlan.ERROR_NO_MAP
+    status = last_status(graph, statuses)
+    assert status.error_code == CommandStatus.NOT_ALLOWED and 'no valid map' in status.error_msg
 
 
 def test_teleop_cmd_vel_starts_a_continuous_plan_that_grows_while_walking(graph):
@@ -132,7 +194,9 @@ def test_teleop_cmd_vel_starts_a_continuous_plan_that_grows_while_walking(graph)
     g['cmd_vel'].publish(Twist())  # walk in place
     first = latest_plan(g)
     assert first.status == FootstepPlan.STATUS_OK and first.continuous
-    g['clock'].advance(3.0)
+    for _ in range(30):  # a teleop at 10 Hz (cmd_vel times out after 0.5 s)
+        g['clock'].advance(0.1, pace=2.0)
+        g['cmd_vel'].publish(Twist())
     plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
     assert len(plans[-1].footsteps) > len(first.footsteps)
     steps = max(s.step_index for s in g['states'].messages)
@@ -151,61 +215,31 @@ def test_teleop_cmd_vel_starts_a_continuous_plan_that_grows_while_walking(graph)
     assert g['states'].messages[-1].reason == 'plan finished'
 
 
-def test_non_finite_cmd_vel_is_ignored(graph):
+def test_non_finite_cmd_vel_is_rejected(graph):
     count = len(graph['plans'].messages)
+    statuses = len(graph['statuses'].messages)
     twist = Twist()
     twist.linear.x = math.inf
     graph['cmd_vel'].publish(twist)
+    status = last_status(graph, statuses)
+    assert status.error_code == CommandStatus.INVALID_VALUE and 'linear.x' in status.error_msg
     graph['clock'].advance(0.3)
     assert not spin_until(graph['executor'], lambda: len(graph['plans'].messages) > count, 0.5)
     assert graph['states'].messages[-1].phase == WalkingState.IDLE
 
 
-def state_machine_and_fake_planner(ros_context, executor, name, *overrides):
-    """A state machine on sim time and a client that plays the planner: (state machine node,
-    clock, walking_state collector, footstep_plan and walk_command publishers)."""
-    node = executor.track(StateMachineNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True), *overrides]))
-    client = executor.track(rclpy.create_node(name, context=ros_context))
-    clock = SimClock(client, executor)
-    states = Collector(client, WalkingState, 'walking_state', 100)
-    plans = client.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
-    commands = client.create_publisher(WalkCommand, 'walk_command', 10)
-    assert wait_for_subscribers(executor, commands) and wait_for_subscribers(executor, plans)
-    assert wait_for_subscribers(executor, clock.publisher)
-    return node, clock, states, plans, commands
-
-
-def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, executor):
-    """Only the state machine and a fake planner's single continuous plan: no extension comes."""
-    from biped_msgs.msg import Footstep
-    node, clock, states, plans, commands = state_machine_and_fake_planner(
-        ros_context, executor, 'silent_planner', Parameter('plan_timeout', value=1.0))
-    feet = [Footstep(side=i % 2, x=0.0, y=0.07 if i % 2 == 0 else -0.07) for i in range(6)]
-    commands.publish(WalkCommand(command=WalkCommand.START))
-    clock.advance(0.1)
-    plans.publish(FootstepPlan(plan_id=1, continuous=True, footsteps=feet, single_support=0.4,
-                               double_support=0.2))
-    clock.advance(6.0)
-    last = states.messages[-1]
-    assert last.phase == WalkingState.IDLE and last.inputs_stale
-    assert last.step_index == 4  # the 4 steps of the last plan, then stop
-    assert node.phase.name == 'IDLE'
-
-
-def test_with_a_planner_running_a_start_waits_for_the_plan(ros_context, executor):
-    """Initialize shifts the COM to the plan's first support foot: no plan, no start."""
-    from biped_msgs.msg import Footstep
-    _, clock, states, plans, commands = state_machine_and_fake_planner(
-        ros_context, executor, 'slow_planner')
-    commands.publish(WalkCommand(command=WalkCommand.START))
-    clock.advance(0.5)
-    assert states.messages[-1].phase == WalkingState.IDLE
-    plan_time = clock.t
-    feet = [Footstep(side=i % 2, y=0.07 if i % 2 == 0 else -0.07) for i in range(4)]
-    plans.publish(FootstepPlan(plan_id=1, footsteps=feet, single_support=0.4,
-                               double_support=0.2))
-    clock.advance(0.1)
-    walking = [s for s in states.messages if s.phase == WalkingState.INITIALIZE]
-    assert walking, 'the plan did not start the walk'
-    assert walking[0].walk_start_time >= plan_time - 1e-6
+def test_a_step_index_no_walk_can_have_neither_hangs_nor_derails_the_planner(graph):
+    """walking_state with step_index 2**32 - 1 once sent the planner into an endless loop."""
+    g = graph
+    g['cmd_vel'].publish(Twist())
+    first = latest_plan(g)
+    g['clock'].advance(0.1)
+    bogus = g['client'].create_publisher(WalkingState, 'walking_state', 10)
+    assert wait_for_subscribers(g['executor'], bogus, count=3)
+    for phase in (WalkingState.SINGLE_SUPPORT, 77):
+        bogus.publish(WalkingState(phase=phase, step_index=4294967295))
+    g['clock'].advance(0.1)
+    # the planner still answers, at once, and still keeps its plan
+    response = call_plan_walk(g, PlanWalk.Request(
+        request_id=99, kind=PlanWalk.Request.KIND_VELOCITY, velocity=Twist()))
+    assert response.accepted and response.plan_id == first.plan_id

@@ -113,7 +113,7 @@ def test_a_push_can_be_scheduled_at_a_sim_time(sim):
 def test_reset_keeps_the_clock_going_forward(sim):
     assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) >= 5, timeout=15)
     before = sim['clock'].messages[-1].clock
-    assert call(sim, Trigger, 'reset', Trigger.Request()).success
+    assert call(sim, Trigger, 'simulator/reset', Trigger.Request()).success
     count = len(sim['clock'].messages)
     assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) >= count + 3, timeout=15)
     stamps = [seconds(m.clock) for m in sim['clock'].messages]
@@ -142,7 +142,7 @@ def test_the_robot_can_start_standing_on_paper_tiles(ros_context, executor):
 
 
 def test_reset_and_terrain_services(sim):
-    assert call(sim, Trigger, 'reset', Trigger.Request()).success
+    assert call(sim, Trigger, 'simulator/reset', Trigger.Request()).success
     tiles = SetTerrain.Request(kind=SetTerrain.Request.TILES, tile_size=0.2, seed=3)
     assert call(sim, SetTerrain, 'set_terrain', tiles).success
     bad = SetTerrain.Request(kind=7)
@@ -192,3 +192,133 @@ def test_the_model_plant_backend_publishes_the_leg_joints(ros_context, executor)
     joints = Collector(client, JointState, 'joint_states', 100)
     assert joints.wait_for(executor, lambda m: len(m) >= 3, timeout=15)
     assert list(joints.messages[-1].name) == list(node._backend.leg_joint_names)
+
+
+# --- safety: a lost controller, refused commands and maps, the hold after a reset --------------
+class RosoutLines:
+    """The log lines of every node (rcl_interfaces/Log on /rosout)."""
+
+    def __init__(self, node):
+        from rcl_interfaces.msg import Log
+        self.lines = []
+        node.create_subscription(Log, '/rosout', lambda m: self.lines.append(m.msg), 100)
+
+    def has(self, *words) -> bool:
+        return any(all(word in line for word in words) for line in self.lines)
+
+
+def answer(sim, commands, bend: float = 0.0) -> JointState:
+    """A command answering the last sensor time: the 12 leg joints at the standing pose they
+    started in, knees bent by bend (rad)."""
+    first, last = sim['joints'].messages[0], sim['joints'].messages[-1]
+    position = list(first.position[:12])
+    for i, name in enumerate(first.name[:12]):
+        if 'knee' in name:
+            position[i] += bend
+    msg = JointState(name=list(first.name[:12]), position=position)
+    msg.header = last.header
+    commands.publish(msg)
+    return msg
+
+
+def test_a_lost_controller_is_reported_and_the_servos_hold_its_last_positions(sim):
+    from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+    diagnostics = Collector(sim['client'], DiagnosticArray, 'diagnostics', 100)
+    commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(sim['executor'], commands)
+    assert sim['joints'].wait_for(sim['executor'], timeout=15)
+    for _ in range(10):  # a controller answering in lockstep, knees bent a little more
+        count = len(sim['clock'].messages)
+        sent = answer(sim, commands, bend=0.05)
+        assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
+    knees = [i for i, name in enumerate(sent.name) if 'knee' in name]
+    # the controller falls silent: reported, and the clock runs on
+    count = len(diagnostics.messages)
+    assert diagnostics.wait_for(sim['executor'], lambda m: any(
+        s.level == DiagnosticStatus.ERROR and 'joint_commands' in s.message
+        for d in m[count:] for s in d.status), timeout=5)
+    ticks = len(sim['clock'].messages)
+    spin_until(sim['executor'], lambda: False, 1.0)
+    assert len(sim['clock'].messages) > ticks + 10  # real time (x5), not a period per timeout
+    last = sim['joints'].messages[-1]
+    held = [last.position[i] for i in knees]
+    assert held == pytest.approx([sent.position[i] for i in knees], abs=0.05)
+    assert 0.5 < sim['odom'].messages[-1].pose.pose.position.z < 0.6
+    # it comes back (answering the sensors as they come): followed again, reported OK
+    count = len(diagnostics.messages)
+
+    def back(messages) -> bool:
+        answer(sim, commands)
+        return any(s.level == DiagnosticStatus.OK for d in messages[count:] for s in d.status)
+    assert diagnostics.wait_for(sim['executor'], back, timeout=5)
+
+
+def test_joint_commands_past_the_limits_or_ahead_of_the_clock_are_refused(sim):
+    from builtin_interfaces.msg import Time
+    rosout = RosoutLines(sim['client'])
+    commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(sim['executor'], commands)
+    assert sim['joints'].wait_for(sim['executor'], timeout=15)
+    stamp = sim['joints'].messages[-1].header.stamp
+    commands.publish(JointState(name=['l_knee_joint'], position=[1e30]))
+    commands.publish(JointState(name=['l_knee_joint'], position=[-1.0]))  # limit 0, margin 0.1
+    commands.publish(JointState(name=['l_knee_joint'], position=[0.5], velocity=[math.inf]))
+    ahead = JointState(name=['l_knee_joint'], position=[0.5])
+    ahead.header.stamp = Time(sec=stamp.sec + 100, nanosec=stamp.nanosec)
+    commands.publish(ahead)
+    spin_until(sim['executor'], lambda: False, 1.0)
+    for words in (('joint_commands rejected', 'l_knee_joint', 'outside'),
+                  ('joint_commands rejected', 'not finite'),
+                  ('joint_commands rejected', 'ahead of the simulation')):
+        assert rosout.has(*words), words
+    knee = dict(zip(sim['joints'].messages[-1].name, sim['joints'].messages[-1].position))
+    assert knee['l_knee_joint'] > 0.1  # none of them was followed
+    assert 0.5 < sim['odom'].messages[-1].pose.pose.position.z < 0.6
+
+
+@pytest.mark.parametrize('field, value, words', [
+    ('resolution', math.nan, 'resolution'), ('resolution', math.inf, 'resolution'),
+    ('origin_x', math.nan, 'origin'), ('origin_x', math.inf, 'origin'),
+    ('frame_id', 'odom', 'frame_id'), ('size', 5, 'cells')])
+def test_a_malformed_map_is_refused_and_the_simulator_runs_on(sim, field, value, words):
+    from nav_msgs.msg import OccupancyGrid
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+    rosout = RosoutLines(sim['client'])
+    grid = OccupancyGrid()
+    grid.header.frame_id = 'map'
+    grid.info.resolution, grid.info.width, grid.info.height = 0.1, 4, 4
+    grid.info.origin.orientation.w = 1.0
+    grid.data = [100] * 16
+    if field == 'resolution':
+        grid.info.resolution = value
+    elif field == 'origin_x':
+        grid.info.origin.position.x = value
+    elif field == 'frame_id':
+        grid.header.frame_id = value
+    else:
+        grid.data = [100] * value
+    publisher = sim['client'].create_publisher(OccupancyGrid, 'map', QoSProfile(
+        depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    assert wait_for_subscribers(sim['executor'], publisher)
+    publisher.publish(grid)
+    assert spin_until(sim['executor'], lambda: rosout.has('map rejected', words), 10)
+    count = len(sim['clock'].messages)
+    assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count + 3, timeout=10)
+
+
+def test_after_a_reset_the_servos_hold_the_standing_pose_while_the_controller_restarts(sim):
+    commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(sim['executor'], commands)
+    assert sim['node'].set_parameters([Parameter('reset_hold', value=1.0)])[0].successful
+    assert sim['joints'].wait_for(sim['executor'], timeout=15)
+    assert call(sim, Trigger, 'simulator/reset', Trigger.Request()).success
+    count = len(sim['joints'].messages)
+    assert sim['joints'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
+    standing = list(sim['joints'].messages[-1].position[:12])
+    for _ in range(15):  # a controller that has not restarted yet: knees 0.4 rad more bent
+        count = len(sim['clock'].messages)
+        answer(sim, commands, bend=0.4)
+        assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
+    now = sim['joints'].messages[-1]
+    assert list(now.position[:12]) == pytest.approx(standing, abs=0.02)  # held
+    assert 0.5 < sim['odom'].messages[-1].pose.pose.position.z < 0.6

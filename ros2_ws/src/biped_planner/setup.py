@@ -12,6 +12,7 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + PACKAGE]),
         ('share/' + PACKAGE, ['package.xml']),
         ('share/' + PACKAGE + '/config', glob('config/*.yaml')),
+        ('share/' + PACKAGE + '/maps', glob('maps/*.yaml') + glob('maps/*.pgm')),
     ],
     install_requires=['setuptools'],
     zip_safe=True,
@@ -22,6 +23,7 @@ setup(
             'state_machine = biped_planner.nodes.state_machine:main',
             'footstep_planner = biped_planner.nodes.footstep_planner:main',
             'reference_generator = biped_planner.nodes.reference_generator:main',
+            'map_server = biped_planner.nodes.map_server:main',
         ],
     },
 )

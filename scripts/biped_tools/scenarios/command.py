@@ -1,7 +1,7 @@
 """The paper's COMAN experiments through the node graph, for the three-mass MPC and the LIPM
 baseline: one sub-command per scenario, `summary` for the table tb:summary, `video` for a clip.
 
-Every trial brings up the five nodes (lockstep sim time), records a rosbag2 of the run, and writes
+Every trial brings up the node graph (lockstep sim time), records a rosbag2 of the run, and writes
 result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
 
   scenarios.py disk [--step-length 0.15 | --sweep] [--laps 1]

@@ -155,7 +155,7 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
 
         step_time = 0.6
         expected = 2.0 * math.pi * CIRCLE_RADIUS * laps / step_length * step_time
-        session.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
+        session.wait_for_command_listeners()
         completed = drive(session, on_time, 1.5 * expected + 10.0, progress,
                           lambda: f'swept {math.degrees(lap.swept):.0f} deg')
         stood = stop_walking(session) if completed else False

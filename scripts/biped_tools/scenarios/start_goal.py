@@ -1,7 +1,8 @@
 """START -> GOAL with obstacles (paper, "Walking with Path Planning"): the main job and demo.
 
-Brings up the whole graph headless in lockstep (simulator, state machine, A*/footstep planner,
-reference generator, MPC controller), publishes the paper's START -> GOAL map, sends the goal
+Brings up the whole graph headless in lockstep (simulator, map server, state machine, A*/footstep
+planner, reference generator, MPC controller), the map server serving the paper's START -> GOAL
+map from its nav2 map file (biped_planner's maps/paper_start_goal.yaml + .pgm), sends the goal
 as a user would (goal_pose), records a rosbag2 of the run, and writes plots (map, A* path,
 footsteps, COM; ZMP against the support polygon) and summary.json. Success: the walk finished
 without a fall, the pelvis within GOAL_TOLERANCE of the goal.
@@ -12,6 +13,7 @@ import statistics
 import time
 
 from biped_tools.graph_session import GraphSession, IDLE
+from biped_tools.paths import PAPER_MAP
 from biped_tools.run_plots import top_view, zmp_figure, zmp_inside_fraction
 from biped_tools.scenarios.trial import fresh_bag_dir, graph_overrides, Trial, write_result
 
@@ -28,13 +30,14 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
                         log=print) -> dict:
     """One walk from the paper's START to its GOAL; the summary, also in out/summary.json."""
     from biped_planner.example_maps import paper_start_goal_example
-    grid, start, goal = paper_start_goal_example()
+    _, start, goal = paper_start_goal_example()
     bag = fresh_bag_dir(out)
     overrides = graph_overrides(model, (start.x, start.y, start.yaw))
     wall_start = time.monotonic()
-    with GraphSession(domain_id, bag_dir=bag, overrides=overrides, log=log) as session:
-        session.publish_map(grid)
+    with GraphSession(domain_id, bag_dir=bag, overrides=overrides, map_file=PAPER_MAP,
+                      log=log) as session:
         session.wait_until_ready()
+        grid = session.map
         t0 = session.sim_time()
         log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
         session.send_goal(goal.x, goal.y, goal.yaw)

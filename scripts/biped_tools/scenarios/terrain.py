@@ -43,7 +43,7 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         session.wait_sim_time(1.0, 60.0)  # settle on the tiles
         progress = Progress(trial)
         sim0 = session.sim_time()
-        session.wait_for_nodes_on('/walk_command', ('footstep_planner', 'state_machine'))
+        session.wait_for_command_listeners()
         session.command_pub.publish(WalkCommand(command=WalkCommand.OMNI, step_length=step_length))
         exit_x = side - BEHIND + EXIT_MARGIN
         budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0

@@ -8,6 +8,7 @@ from biped_mpc.controller_params import PELVIS_GROUND_TRUTH, PELVIS_IMU_KINEMATI
 from biped_mpc.errors import InputError
 from biped_mpc.linear_model import N_PLANES
 from biped_mpc.validation import finite_vector
+from biped_planner.rotations import tilt_of_quaternion
 
 # Bits of ControllerOutput.status; 0 means everything nominal.
 STATUS_OK = 0
@@ -61,6 +62,13 @@ class ControllerFeedback:
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, finite_vector(f'ControllerFeedback.{name}',
                                                              getattr(self, name), size))
+
+    def standing_still(self, max_tilt: float, max_speed: float) -> bool:
+        """Both feet in contact, the pelvis tilted less than max_tilt (rad) and, when its
+        velocity is known, slower than max_speed (m/s)."""
+        velocity = self.pelvis_linear_velocity
+        return all(self.contacts) and tilt_of_quaternion(self.pelvis_orientation) < max_tilt \
+            and (velocity is None or float(np.linalg.norm(velocity)) < max_speed)
 
     @classmethod
     def from_readings(cls, readings, pelvis_source: str = PELVIS_GROUND_TRUTH,

@@ -178,6 +178,13 @@ class WalkingController:
         self._last_q = feedback.leg_joint_positions.copy()
         self._reset_done = True
 
+    @property
+    def latched_feet(self) -> list:
+        """[left, right] sole x, y, z (m), yaw (rad) of the feet latched on the ground, None
+        for a foot that is not (biped_mpc.stance_feet)."""
+        return [None if latch is None else np.array(latch, dtype=float)
+                for latch in self._stance.latched]
+
     def step(self, t: float, window, feedback: ControllerFeedback) -> ControllerOutput:
         """Run one control cycle.
 

@@ -21,6 +21,14 @@ class CommandError(BipedPlannerError, ValueError):
     """A walk command is malformed (NaN, out of range, unknown mode)."""
 
 
+class FrameError(CommandError):
+    """A command or message is expressed in another frame than the expected one."""
+
+
+class InputError(BipedPlannerError, ValueError):
+    """A message from another node is malformed or physically impossible."""
+
+
 class StartOutsideMapError(PlanningError):
     """The start lies outside the map."""
 

@@ -15,6 +15,7 @@ import enum
 from typing import List, Optional, Tuple
 
 from biped_planner.astar import AStarPlanner
+from biped_planner.errors import InputError
 from biped_planner.footstep_planner import FootstepPlanner
 from biped_planner.footsteps import foot_beside, Footstep
 from biped_planner.input_checks import check_integer
@@ -105,7 +106,11 @@ class PlanSession:
         """Walk by step commands: start a continuous plan, or change the command of one.
 
         The new command applies to the steps appended from now on.
+
+        :raises InputError: for a step index beyond the current continuous plan
         """
+        if self._mode == PlanMode.TELEOP and self._continuous:
+            self._check_step(step_index)
         self._command = command
         self._step_time = step_time
         if self._mode != PlanMode.TELEOP or not self._continuous:
@@ -127,9 +132,17 @@ class PlanSession:
         """
         if self._mode != PlanMode.TELEOP or not self._continuous:
             return None
+        self._check_step(step_index)
         count = len(self._footsteps)
         self._fill_to(step_index)
         return self._update() if len(self._footsteps) != count else None
+
+    def _check_step(self, step_index: int) -> None:
+        """A step the robot can be taking: never beyond the end of the plan it walks (the
+        plan always reaches past the step being taken, so a larger index is not the robot's;
+        extending the plan up to it would never end for a huge one)."""
+        check_integer('step_index', step_index, 0, max(0, len(self._footsteps) - 2),
+                      error=InputError)
 
     def _fill_to(self, step_index: int) -> None:
         needed = step_index + 3 + self._lookahead
@@ -140,7 +153,8 @@ class PlanSession:
     def stop(self, step_index: int, walking: bool) -> Optional[PlanUpdate]:
         """Finish the step being taken, then one closing step with the feet side by side.
 
-        :param step_index: the step being taken (single or double support of it)
+        :param step_index: the last step taken before the closing one: the step being taken,
+            or the next one when that is committed already (the caller knows when)
         :param walking: whether the robot is walking; standing robots need no plan change
         :return: the shortened plan, or None when there is nothing to stop
         """

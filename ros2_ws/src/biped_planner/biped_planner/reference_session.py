@@ -8,6 +8,7 @@ step) is spliced in with WalkingReference.extend from its first changed footstep
 the last reference holds its final standing pose.
 """
 from dataclasses import dataclass
+import math
 from typing import Optional, Sequence, Tuple
 
 from biped_planner.errors import ConfigError
@@ -17,6 +18,28 @@ from biped_planner.reference_window import ReferenceWindow
 from biped_planner.standing_reference import standing_window
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import WalkingReference
+
+
+def check_footsteps(footsteps: Sequence[Footstep], workspace: float, max_step: float) -> None:
+    """A plan the robot can walk: at least the two initial feet, every footstep inside the
+    workspace, and no footstep farther than max_step from the one before it.
+
+    :param workspace: largest |x| and |y| of a footstep (m)
+    :param max_step: largest distance between consecutive footsteps (m)
+    :raises ConfigError: naming the first footstep that breaks a rule
+    """
+    if len(footsteps) < 2:
+        raise ConfigError(f'a plan needs at least the 2 initial feet, got {len(footsteps)}')
+    for index, step in enumerate(footsteps):
+        if max(abs(step.x), abs(step.y)) > workspace:
+            raise ConfigError(f'footstep {index} at ({step.x:.4g}, {step.y:.4g}) is outside '
+                              f'the workspace (|x|, |y| <= {workspace} m)')
+        if index:
+            before = footsteps[index - 1]
+            distance = math.hypot(step.x - before.x, step.y - before.y)
+            if distance > max_step:
+                raise ConfigError(f'footstep {index} is {distance:.3f} m from footstep '
+                                  f'{index - 1} (> {max_step} m)')
 
 
 @dataclass(frozen=True)

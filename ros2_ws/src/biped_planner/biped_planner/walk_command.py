@@ -1,14 +1,17 @@
 """Walk commands as library values, validated against the robot's limits.
 
 The numbers of the command kinds are those of biped_msgs/WalkCommand, so that a node converts a
-message field by field.
+message field by field. The other two ways a user asks for a walk are checked here too: a goal
+pose (the RViz convention: position and orientation in the map frame) becomes a GOTO command,
+and a velocity command (the cmd_vel convention) becomes a checked (vx, vy, wz).
 """
 from dataclasses import dataclass
 import enum
 import math
 
-from biped_planner.errors import CommandError, ConfigError
+from biped_planner.errors import CommandError, ConfigError, FrameError
 from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.rotations import yaw_of_quaternion
 
 
 class CommandKind(enum.IntEnum):
@@ -38,6 +41,12 @@ class CommandLimits:
                                      low=0.05, high=10.0)
     max_goal_distance: float = parameter(
         1000.0, 'largest |goal_x|, |goal_y| of a GOTO command (m)', low=1.0, high=1e6)
+    max_linear_speed: float = parameter(
+        1.0, 'largest |linear.x|, |linear.y| of a cmd_vel (m/s)', low=0.01, high=10.0)
+    max_angular_speed: float = parameter(
+        2.0, 'largest |angular.z| of a cmd_vel (rad/s)', low=0.01, high=20.0)
+    quaternion_tolerance: float = parameter(
+        0.01, 'largest | |q| - 1 | of a goal orientation quaternion', low=1e-6, high=0.5)
 
     def __post_init__(self) -> None:
         validate_fields(self, ConfigError)
@@ -97,3 +106,65 @@ class WalkCommand:
                                        f'[-{limits.max_goal_distance}, '
                                        f'{limits.max_goal_distance}]')
         return cls(kind=kind, goal=goal, step=step, step_time=step_time)
+
+
+def goal_command(frame_id: str, expected_frame: str, position, orientation_xyzw,
+                 limits: CommandLimits) -> WalkCommand:
+    """A GOTO command from a goal pose (geometry_msgs/PoseStamped fields).
+
+    :param frame_id: the pose's frame; it must be expected_frame (an empty frame is an error:
+        there is no default frame)
+    :param position: (x, y, z) in that frame (m); z is not used
+    :param orientation_xyzw: quaternion (x, y, z, w), normalised within
+        limits.quaternion_tolerance; its yaw is the goal heading
+    :raises FrameError: for another frame
+    :raises CommandError: for a non-finite value, a goal beyond limits.max_goal_distance or a
+        quaternion that is not normalised
+    """
+    if frame_id != expected_frame:
+        raise FrameError(f'goal frame_id {frame_id!r} is not the map frame {expected_frame!r} '
+                         '(no tf here)')
+    values = tuple(float(v) for v in position) + tuple(float(v) for v in orientation_xyzw)
+    for name, value in zip(('position.x', 'position.y', 'position.z', 'orientation.x',
+                            'orientation.y', 'orientation.z', 'orientation.w'), values):
+        if not math.isfinite(value):
+            raise CommandError(f'goal {name} must be finite, got {value}')
+    norm = math.sqrt(sum(v * v for v in values[3:]))
+    if abs(norm - 1.0) > limits.quaternion_tolerance:
+        raise CommandError(f'goal orientation is not a unit quaternion: |q| = {norm:.6g} (allowed '
+                           f'1 +- {limits.quaternion_tolerance})')
+    yaw = yaw_of_quaternion(tuple(v / norm for v in values[3:]))
+    return WalkCommand.from_fields(CommandKind.GOTO, (values[0], values[1], yaw), (0.0, 0.0, 0.0),
+                                   0.0, limits)
+
+
+def velocity_command(linear, angular, limits: CommandLimits) -> tuple:
+    """The (vx, vy, wz) of a velocity command (geometry_msgs/Twist fields), checked.
+
+    :param linear: (x, y, z) (m/s); z is not used
+    :param angular: (x, y, z) (rad/s); x and y are not used
+    :return: (vx, vy, wz)
+    :raises CommandError: for a non-finite field, or a speed beyond the limits
+    """
+    values = tuple(float(v) for v in linear) + tuple(float(v) for v in angular)
+    for name, value in zip(('linear.x', 'linear.y', 'linear.z', 'angular.x', 'angular.y',
+                            'angular.z'), values):
+        if not math.isfinite(value):
+            raise CommandError(f'cmd_vel {name} must be finite, got {value}')
+    for name, value, bound in (('linear.x', values[0], limits.max_linear_speed),
+                               ('linear.y', values[1], limits.max_linear_speed),
+                               ('angular.z', values[5], limits.max_angular_speed)):
+        if abs(value) > bound:
+            raise CommandError(f'cmd_vel {name} {value} outside [-{bound}, {bound}]')
+    return values[0], values[1], values[5]
+
+
+def check_command_frame(command: WalkCommand, frame_id: str, expected_frame: str) -> None:
+    """A GOTO command's goal is in the map frame: its header may name it or leave it empty
+    (biped_msgs/WalkCommand defines the goal in the map frame).
+
+    :raises FrameError: when a GOTO names another frame
+    """
+    if command.kind == CommandKind.GOTO and frame_id not in ('', expected_frame):
+        raise FrameError(f'GOTO in frame {frame_id!r}: the goal must be in the map frame '
+                         f'{expected_frame!r} (no tf here)')

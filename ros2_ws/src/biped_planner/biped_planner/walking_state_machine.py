@@ -2,7 +2,8 @@
 
 Idle -> Initialize -> Single Support <-> Double Support -> Idle, and Fallen from any phase.
 Transitions come from timers (the phase durations of the step timing) and conditions (a start or
-stop request, the end of the footstep plan, a fall detected by biped_planner.fall_detector).
+stop request, the end of the footstep plan, a fall detected by biped_planner.fall_detector, a
+reset). Every reset starts a new epoch: the consumers of the state re-initialise from the sensors.
 Time is always an argument.
 """
 from dataclasses import dataclass, field, replace
@@ -68,6 +69,7 @@ class WalkingStatus:
     :param walk_start: clock time of the start request that began this walk (s)
     :param stop_requested: a stop was requested and the current step is being finished
     :param reason: why the last transition happened
+    :param epoch: number of resets so far
     """
 
     phase: Phase = Phase.IDLE
@@ -78,6 +80,7 @@ class WalkingStatus:
     walk_start: float = 0.0
     stop_requested: bool = False
     reason: str = 'initial state'
+    epoch: int = 0
 
     def time_in_phase(self, t: float) -> float:
         """:return: seconds since the phase began, at clock time t."""
@@ -103,8 +106,9 @@ class WalkingStateMachine:
     feet swap roles. A walk ends in Idle at the end of a double support when the footstep plan
     has no step left, or when a stop was requested and no planner drives the walk; a planner
     answers a stop with a plan that ends after the current step and one closing step (feet side
-    by side), so a planned walk always ends on its plan. Fallen is entered from any phase and
-    left by reset().
+    by side), so a planned walk always ends on its plan, unless the stop says the planner does
+    not answer. Fallen is entered from any phase; reset() leaves it (or re-initialises a
+    standing robot) and is refused while walking.
 
     :param params: timing and first support foot
     """
@@ -183,13 +187,21 @@ class WalkingStateMachine:
             self._status = replace(status, stop_requested=False, reason='stop cancelled')
         return []
 
-    def request_stop(self, t: float) -> List[WalkingStatus]:
-        """Stop walking: finish the current step into double support, then Idle."""
+    def request_stop(self, t: float, reason: str = 'stop requested',
+                     unplanned: bool = False) -> List[WalkingStatus]:
+        """Stop walking: finish the current step into double support, then Idle.
+
+        :param reason: why, for the status
+        :param unplanned: end after the current step even if a planner drives the walk (the
+            planner does not answer, so no closing plan will come)
+        """
         status = self._status
+        if unplanned:
+            self._plan_driven = False
         if status.phase == Phase.INITIALIZE:
-            return [self._enter(Phase.IDLE, t, 'stop requested before the first step')]
+            return [self._enter(Phase.IDLE, t, f'{reason} before the first step')]
         if status.phase in (Phase.SINGLE_SUPPORT, Phase.DOUBLE_SUPPORT):
-            self._status = replace(status, stop_requested=True, reason='stop requested')
+            self._status = replace(status, stop_requested=True, reason=reason)
         return []
 
     def report_fall(self, t: float, reason: str = 'fall detected') -> List[WalkingStatus]:
@@ -199,10 +211,18 @@ class WalkingStateMachine:
         return [self._enter(Phase.FALLEN, t, reason, support=Support.DOUBLE)]
 
     def reset(self, t: float) -> List[WalkingStatus]:
-        """Leave Fallen for Idle (the robot stands again)."""
-        if self._status.phase != Phase.FALLEN:
-            return []
-        return [self._enter(Phase.IDLE, t, 'reset', step_index=0)]
+        """Start a new epoch in Idle: leave Fallen (the robot stands again) or re-initialise a
+        standing robot.
+
+        :raises CommandError: while walking (Initialize, Single or Double support)
+        """
+        phase = self._status.phase
+        if phase in WALKING_PHASES:
+            raise CommandError(f'cannot reset while walking ({phase.name}): send STOP and wait '
+                               'for IDLE')
+        reason = 'reset after a fall' if phase == Phase.FALLEN else 'reset'
+        return [self._enter(Phase.IDLE, t, reason, step_index=0,
+                            epoch=self._status.epoch + 1)]
 
     def update(self, t: float) -> List[WalkingStatus]:
         """Advance the timers to clock time t.

@@ -121,3 +121,40 @@ def test_bad_step_time_is_a_command_error(step_time):
     with pytest.raises(CommandError, match='step_time'):
         machine.set_step_time(step_time)
     assert machine.single_support == 0.4
+
+
+def test_every_reset_starts_a_new_epoch_in_idle_and_none_happens_while_walking():
+    machine = WalkingStateMachine(PARAMS)
+    assert machine.status.epoch == 0
+    standing = machine.reset(0.5)  # a standing robot is re-initialised too
+    assert [(s.phase, s.epoch, s.reason) for s in standing] == [(Phase.IDLE, 1, 'reset')]
+    machine.request_start(1.0)
+    for t in (1.5, 2.2, 2.45):  # Initialize, single support, double support
+        run(machine, t, t0=machine.status.phase_start)
+        with pytest.raises(CommandError, match='cannot reset while walking'):
+            machine.reset(t)
+        assert machine.status.epoch == 1
+    machine.report_fall(2.5, 'pushed')
+    after = machine.reset(3.0)
+    assert [(s.phase, s.epoch, s.step_index) for s in after] == [(Phase.IDLE, 2, 0)]
+    assert after[0].reason == 'reset after a fall'
+
+
+def test_an_unplanned_stop_ends_a_planned_walk_after_the_current_step():
+    machine = WalkingStateMachine(PARAMS)
+    machine.set_plan(None, planned=True)
+    machine.request_start(0.0)
+    run(machine, 1.2)  # single support of step 0
+    machine.request_stop(1.2, 'planner silent', unplanned=True)
+    assert machine.status.reason == 'planner silent'
+    phases = [(s.phase, s.step_index) for s in run(machine, 3.0, t0=1.2)]
+    assert phases == [(Phase.DOUBLE_SUPPORT, 0), (Phase.IDLE, 1)]
+
+
+def test_a_planned_walk_ignores_a_plain_stop_until_its_plan_ends():
+    machine = WalkingStateMachine(PARAMS)
+    machine.set_plan(None, planned=True)
+    machine.request_start(0.0)
+    run(machine, 1.2)
+    machine.request_stop(1.2)
+    assert all(s.phase != Phase.IDLE for s in run(machine, 3.0, t0=1.2))

@@ -28,13 +28,18 @@ class LatestMessageReader:
 
     def take(self):
         """The newest message received since the last take, or None if none came."""
-        newest = None
+        messages = self.take_all()
+        return messages[-1] if messages else None
+
+    def take_all(self) -> list:
+        """Every message received since the last take (at most the QoS depth), oldest first."""
+        messages = []
         while True:
             with self._handle:
                 taken = self._handle.take_message(self._msg_type, False)
             if taken is None:
-                return newest
-            newest = taken[0]
+                return messages
+            messages.append(taken[0])
 
     def destroy(self) -> None:
         self._handle.destroy_when_not_in_use()

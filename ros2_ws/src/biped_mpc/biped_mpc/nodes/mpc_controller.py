@@ -4,90 +4,83 @@ Subscribes: reference_trajectory (biped_msgs/ReferenceTrajectory), joint_states
 (sensor_msgs/JointState), odom (nav_msgs/Odometry: the pelvis pose, when pelvis_source is
 ground_truth) or imu (sensor_msgs/Imu: the pelvis orientation, when it is imu_kinematics), zmp
 (geometry_msgs/PointStamped, from the ankle F/T sensors), left_foot_wrench / right_foot_wrench
-(geometry_msgs/WrenchStamped: foot contacts); one control cycle runs per sensor time, once
-every one of these carries it. The simulator publishes joint_states last: its arrival triggers
-the cycle, which then takes the newest message of each other sensor topic (no callback per
-message), and polls again for one that is not in yet (topics have no order between them).
+(geometry_msgs/WrenchStamped: foot contacts), walking_state (biped_msgs/WalkingState: its epoch);
+one control cycle runs per sensor time, once every one of these carries it. The simulator
+publishes joint_states last: its arrival triggers the cycle, which then takes the newest
+messages of each other sensor topic (no callback per message), and polls again for one that is
+not in yet (topics have no order between them).
 Publishes: joint_commands (sensor_msgs/JointState: the 12 leg setpoints, stamped with the sensor
-time they answer), controller_diagnostics (biped_msgs/ControllerDiagnostics), sole_poses
+time they answer), controller_diagnostics (biped_mpc/ControllerDiagnostics), sole_poses
 (geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to).
 
 Lockstep: a period is computed once its reference (stamped with the same sensor time) is in, or
 after reference_wait of wall time without it.
-Safety: when the references are older than stale_timeout (the planner or reference generator
-died or lags), the controller holds a safe stance: both feet on the ground where they are and
-the hip between them, reported as HOLDING. Malformed messages are logged and skipped.
+
+Safety (biped_mpc.safe_stance, biped_mpc.input_bounds):
+- References older than stale_timeout (the reference generator died or lags): the controller
+  finishes the step it is in along the last reference window, puts the swing foot down where
+  that window lands it, brings the ZMP and hip over the middle of the feet and holds that
+  stance (HOLDING, naming reference_trajectory). It walks on only with a reference that fits
+  the feet it stands on.
+- Sensor messages are checked at the boundary (frames, stamps that go back or run ahead of the
+  clock, NaN / inf, positions outside the workspace, joints past their limits, forces beyond
+  the sensors' range, quaternions that are not unit): a refused one is logged and the previous
+  valid one kept; when a sensor has had no valid message for sensor_timeout the controller
+  holds the safe stance (HOLDING, naming it). No joint_states for sensor_loss_timeout of wall
+  time (the simulator is gone): HOLDING reported, naming joint_states.
+- walking_state.epoch changed (the state machine reset the robot): once the robot stands
+  still on both feet, the estimate, stance and commanded state restart from the sensors, the
+  old references are dropped, and the controller stands until a reference fits its feet.
 The robot comes from the model file robot_description_file (biped_mpc.robot_model; the
 COMAN-like robot shipped with this package by default), its URDF for ik=pinocchio from
 urdf_file.
 """
 import dataclasses
-import math
 import time
 
-from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory
-from geometry_msgs.msg import PointStamped, Pose, PoseArray, WrenchStamped
+from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory, WalkingState
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import PointStamped, PoseArray, WrenchStamped
 from nav_msgs.msg import Odometry
 import numpy as np
-from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.qos import QoSProfile
 from sensor_msgs.msg import Imu, JointState
 
 from biped_mpc.controller_io import ControllerFeedback, STATUS_MPC_FALLBACK
 from biped_mpc.controller_params import (CONTROLLER_MPC_PARAMS, PELVIS_GROUND_TRUTH,
                                          WalkingControllerParams)
-from biped_mpc.errors import BipedMpcError
+from biped_mpc.errors import BipedMpcError, InputError
+from biped_mpc.input_bounds import check_reference_window, InputBounds
 from biped_mpc.mpc_params import MpcParams
+from biped_mpc.nodes.conversions import diagnostics_msg, sole_poses_msg
 from biped_mpc.nodes.latest_message_reader import LatestMessageReader
+from biped_mpc.nodes.sensor_intake import SensorFrames, SensorIntake
 from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
+from biped_mpc.reference_supervisor import ReferenceSupervisor
+from biped_mpc.safe_stance import SafeStanceParams
 from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.walking_controller import WalkingController
-from biped_planner.footsteps import Footstep
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.reference_messages import window_from_reference_msg
+from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.node_support.walking_state_checks import walking_state_problem
 from biped_planner.parameter_fields import field_specs
-from biped_planner.rotations import quaternion_from_yaw, quaternion_to_matrix
-from biped_planner.sides import LEFT, RIGHT
-from biped_planner.standing_reference import standing_window
-from biped_planner.walking_reference import ReferenceParams
 
 MPC_FIELDS = field_specs(MpcParams)
-READ_AT_START = ('reference_wait', 'robot_description_file', 'urdf_file')
-
 SENSOR_POLL_PERIOD = 0.0005  # s of wall time between takes while a sensor is not in yet
-SENSOR_POLL_TIMEOUT = 0.1  # s of wall time after joint_states: then stop polling for the rest
+SENSOR_POLL_TIMEOUT = 0.1  # s of wall time after joint_states: then use the previous data
+WATCHDOG_PERIOD = 0.1  # s of wall time between checks that joint_states still come
+UNANSWERED_FACTOR = 3.0  # times sensor_loss_timeout while the newest period is unanswered
+STILL_SPEED = 0.2  # m/s: below this (and on both feet, upright) the robot stands still
+STILL_TILT = 0.2  # rad
 SENSOR_TYPES = {'odom': Odometry, 'imu': Imu, 'zmp': PointStamped,
                 'left_foot_wrench': WrenchStamped, 'right_foot_wrench': WrenchStamped,
                 'joint_states': JointState}
-
-
-def stamp_seconds(stamp) -> float:
-    return stamp.sec + stamp.nanosec * 1e-9
-
-
-def window_from(window, start: int, n: int):
-    """Samples start .. start + n - 1 of a window, the last sample repeated past its end."""
-    last = len(window.t) - 1
-    index = np.minimum(np.arange(start, start + n), last)
-    return dataclasses.replace(window, **{f.name: getattr(window, f.name)[index]
-                                          for f in dataclasses.fields(window)})
-
-
-def sole_poses_msg(output, stamp) -> PoseArray:
-    """The soles the controller stands on or moves to: [left, right], x y z and yaw (map)."""
-    msg = PoseArray()
-    msg.header.stamp = stamp
-    msg.header.frame_id = 'map'
-    for target in (output.left_foot_target, output.right_foot_target):
-        pose = Pose()
-        pose.position.x, pose.position.y, pose.position.z = (float(v) for v in target[:3])
-        _, _, pose.orientation.z, pose.orientation.w = (
-            float(v) for v in quaternion_from_yaw(target[3]))
-        msg.poses.append(pose)
-    return msg
+FRAME_FIELDS = {f.name: f.default for f in dataclasses.fields(SensorFrames)}
 
 
 class MpcControllerNode(Node):
@@ -111,8 +104,17 @@ class MpcControllerNode(Node):
                               (0.02, 10.0)),
             'reference_wait': (0.1, 'wall time a period waits for its reference (s)',
                                (0.0, 5.0)),
+            'sensor_timeout': (0.1, 'a sensor without a valid message for this long makes it '
+                               'hold a stance (s)', (0.0, 10.0)),
+            'sensor_loss_timeout': (0.5, 'wall time without joint_states after which it reports '
+                                    'the simulator lost (s)', (0.05, 60.0)),
             'foot_length': (0.2, 'sole length, for the standing stance (m)', (0.01, 1.0)),
-            'foot_width': (0.1, 'sole width, for the standing stance (m)', (0.01, 1.0))})
+            'foot_width': (0.1, 'sole width, for the standing stance (m)', (0.01, 1.0)),
+            **{f'frames.{name}': (value, f'expected frame_id of the {name} data', None)
+               for name, value in FRAME_FIELDS.items()}},
+            read_only=('robot_description_file', 'urdf_file', 'solver', 'leg_outputs',
+                       'reference_wait', 'foot_length', 'foot_width',
+                       *(f'frames.{name}' for name in FRAME_FIELDS)))
         get = lambda name: self.get_parameter(name).value  # noqa: E731
         self._robot = load_robot_model(get('robot_description_file'))
         if get('urdf_file'):
@@ -123,22 +125,37 @@ class MpcControllerNode(Node):
                    'mpc': dataclasses.replace(CONTROLLER_MPC_PARAMS, backend=get('solver'),
                                               leg_outputs=get('leg_outputs')),
                    'estimator': EstimatorParams()})
+        hold_params = declare_dataclass_parameters(
+            self, SafeStanceParams(), {}, prefix='hold.',
+            fixed={'foot_length': float(get('foot_length')),
+                   'foot_width': float(get('foot_width'))},
+            on_change=lambda p: setattr(self._supervisor, 'params', p))
+        bounds = declare_dataclass_parameters(self, InputBounds(), {}, prefix='bounds.',
+                                              on_change=self._on_bounds)
         self._controller = WalkingController(self._params)
+        self._reject = RejectionLog(self.get_logger().error)
+        self._dt = self._params.mpc.dt
         self._horizon = self._params.mpc.n_predict + 1
-        self._standing_params = ReferenceParams(foot_length=float(get('foot_length')),
-                                                foot_width=float(get('foot_width')))
         self._leg_names = list(self._robot.leg_joint_names)
-        self._reference = None
-        self._reference_start = None  # the reference's first self._horizon samples
-        self._sensors = {}
+        geometry = self._robot.leg_geometry
+        lower = geometry.joint_lower if geometry else (-np.pi,) * 12
+        upper = geometry.joint_upper if geometry else (np.pi,) * 12
+        self._intake = SensorIntake(
+            bounds, SensorFrames(**{name: get(f'frames.{name}') for name in FRAME_FIELDS}),
+            self._leg_names, lower, upper, self._sim_now)
+        self._supervisor = ReferenceSupervisor(hold_params, self._dt, self._horizon)
+        self._epoch = None  # walking_state.epoch applied (None: none seen yet)
+        self._epoch_pending = None
         # the pelvis from odom or from the IMU: the other one is not read, so not subscribed
         unread = 'imu' if self._params.pelvis_source == PELVIS_GROUND_TRUTH else 'odom'
         self._sensor_topics = tuple(topic for topic in SENSOR_TYPES if topic != unread)
+        self._period = None  # stamp (sec, nanosec) of the newest joint_states
         self._poll_deadline = None
         self._joint_states_arrival = None
         self._last_cycle = None
         self._pending = None  # sensor time (s) of a complete period not yet computed
         self._last_output = None
+        self._last_command = None
         self._started = False
         self._command_pub = self.create_publisher(JointState, 'joint_commands', 10)
         self._diag_pub = self.create_publisher(ControllerDiagnostics, 'controller_diagnostics',
@@ -147,66 +164,100 @@ class MpcControllerNode(Node):
         self.create_subscription(ReferenceTrajectory, 'reference_trajectory', self._on_reference,
                                  10)
         # One cycle per sensor time, once every input of that time is in: mixing two periods'
-        # data destabilises the loop.
-        self._readers = {topic: LatestMessageReader(self, SENSOR_TYPES[topic], topic)
+        # data destabilises the loop. Depth 5: a refused message must not push out a valid one.
+        self._readers = {topic: LatestMessageReader(self, SENSOR_TYPES[topic], topic,
+                                                    QoSProfile(depth=5))
                          for topic in self._sensor_topics if topic != 'joint_states'}
+        self._state_reader = LatestMessageReader(self, WalkingState, 'walking_state',
+                                                 QoSProfile(depth=10))
         self.create_subscription(JointState, 'joint_states', self._on_joint_states, 10)
         # Wall-clock timers (with sim time, a ROS timer would wait for the very clock we hold
         # up). This one runs while a period's sensor messages are not all in.
-        self._poll_timer = self.create_timer(SENSOR_POLL_PERIOD, self._take_sensors, clock=Clock(
-            clock_type=ClockType.STEADY_TIME))
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._poll_timer = self.create_timer(SENSOR_POLL_PERIOD, self._take_sensors,
+                                             clock=steady)
         self._poll_timer.cancel()
         # One-shot, armed while a period waits for its reference.
         self._wait_timer = self.create_timer(float(get('reference_wait')), self._on_wait_timer,
-                                             clock=Clock(clock_type=ClockType.STEADY_TIME))
+                                             clock=steady)
         self._wait_timer.cancel()
-        self.add_on_set_parameters_callback(self._on_set_parameters)
+        self.create_timer(WATCHDOG_PERIOD, self._on_watchdog, clock=steady)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
                                f'{self._params.mpc.n_predict})')
+
+    def _on_bounds(self, bounds: InputBounds) -> None:
+        self._intake.bounds = bounds
+
+    def _sim_now(self):
+        """Now on the node's clock when it follows /clock (the sensors' time base), else None."""
+        clock = self.get_clock()
+        return clock.now().nanoseconds * 1e-9 if clock.ros_time_is_active else None
 
     # --- inputs -----------------------------------------------------------------------------
     def _on_reference(self, msg: ReferenceTrajectory) -> None:
         try:
-            self._reference = window_from_reference_msg(msg)
-        except ValueError as error:
-            self.get_logger().error(f'reference rejected: {error}', throttle_duration_sec=2.0)
+            world = self.get_parameter('frames.world').value
+            if msg.header.frame_id not in ('', world):
+                raise InputError(f'frame_id {msg.header.frame_id!r}, expected {world!r}')
+            reference = window_from_reference_msg(msg)
+            check_reference_window(reference, self._dt, self._intake.bounds)
+            t0 = float(reference.t[0])
+            if self._period is not None and t0 > stamp_seconds_of(self._period) + 1.5 * self._dt:
+                raise InputError(f'it starts at t={t0:.3f} s, ahead of the sensors '
+                                 f'(t={stamp_seconds_of(self._period):.3f} s)')
+            current = self._supervisor.reference
+            if current is not None and t0 < current.t[0] - 1e-9:
+                raise InputError(f'it starts at t={t0:.3f} s, before the one in use '
+                                 f'({current.t[0]:.3f} s)')
+        except (ValueError, BipedMpcError) as error:
+            self._reject('reference_trajectory', error)
             return
-        # the horizon from its first sample, cut now: references come ahead of their period
-        self._reference_start = window_from(self._reference, 0, self._horizon)
+        self._supervisor.set_reference(reference)
         self._try_cycle()
 
+    def _accept(self, topic: str, msg) -> bool:
+        """Check a sensor message; :return: whether it was kept (a refused joint_states does
+        not start a period: the simulator's own is checked like any other)."""
+        usable, why = self._intake.accept(topic, msg)
+        if why is not None:
+            self._reject(topic, why)
+        return usable
+
     def _on_joint_states(self, msg: JointState) -> None:
-        self._sensors['joint_states'] = msg
+        if not self._accept('joint_states', msg):
+            return
+        self._period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         self._joint_states_arrival = time.monotonic()  # for the cycle latency diagnostic
         self._poll_deadline = self._joint_states_arrival + SENSOR_POLL_TIMEOUT
         self._take_sensors()
 
     def _take_sensors(self) -> None:
-        """Start the period of the newest joint_states once every sensor carries its time."""
+        """Start the period of the newest joint_states once every sensor has sent its message
+        of that time (or after SENSOR_POLL_TIMEOUT: then with the previous valid ones)."""
         for topic, reader in self._readers.items():
-            msg = reader.take()
-            if msg is not None:
-                self._sensors[topic] = msg
-        stamps = {(m.header.stamp.sec, m.header.stamp.nanosec)
-                  for m in self._sensors.values()}
-        if len(self._sensors) == len(self._sensor_topics) and len(stamps) == 1:
-            self._poll_timer.cancel()
-            if stamps != {self._last_cycle}:
-                self._last_cycle = stamps.pop()
-                self._pending = stamp_seconds(self._sensors['joint_states'].header.stamp)
-                self._try_cycle()
-                if self._pending is not None:
-                    self._wait_timer.reset()  # from now: run it after reference_wait without it
-        elif time.monotonic() > self._poll_deadline:
-            self._poll_timer.cancel()  # a sensor is silent: the period is not computed
-            t = self._sensors['joint_states'].header.stamp
-            late = [topic for topic in self._sensor_topics if topic not in self._sensors
-                    or self._sensors[topic].header.stamp != t]
+            for msg in reader.take_all():
+                self._accept(topic, msg)
+        if self._period is None:
+            return
+        late = [topic for topic in self._sensor_topics
+                if not self._intake.has_period(topic, self._period)]
+        if late and time.monotonic() <= self._poll_deadline:
+            if self._poll_timer.is_canceled():
+                self._poll_timer.reset()
+            return
+        self._poll_timer.cancel()
+        if self._period == self._last_cycle:
+            return
+        if late:
             self.get_logger().warning(
-                f'period t={stamp_seconds(t):.3f} s skipped: no {", ".join(late)} of that time '
-                f'within {SENSOR_POLL_TIMEOUT} s of joint_states', throttle_duration_sec=1.0)
-        elif self._poll_timer.is_canceled():
-            self._poll_timer.reset()
+                f'period t={stamp_seconds_of(self._period):.3f} s: no {", ".join(late)} of that '
+                f'time within {SENSOR_POLL_TIMEOUT} s of joint_states; using the previous',
+                throttle_duration_sec=1.0)
+        self._last_cycle = self._period
+        self._pending = stamp_seconds_of(self._period)
+        self._try_cycle()
+        if self._pending is not None:
+            self._wait_timer.reset()  # from now: run it after reference_wait without it
 
     def _try_cycle(self, force: bool = False) -> None:
         """Run the pending period once its reference is in (or when told to stop waiting).
@@ -216,7 +267,8 @@ class MpcControllerNode(Node):
         """
         if self._pending is None:
             return
-        fresh = self._reference is not None and self._reference.t[0] >= self._pending - 1e-6
+        reference = self._supervisor.reference
+        fresh = reference is not None and reference.t[0] >= self._pending - 1e-6
         if fresh or force:
             self._pending = None
             self._wait_timer.cancel()
@@ -226,124 +278,140 @@ class MpcControllerNode(Node):
         self._wait_timer.cancel()
         self._try_cycle(force=True)
 
-    def _on_set_parameters(self, parameters) -> SetParametersResult:
-        fixed = [p.name for p in parameters if p.name in READ_AT_START]
-        if fixed:
-            return SetParametersResult(successful=False,
-                                       reason=f'{", ".join(fixed)} read at start only')
-        return SetParametersResult(successful=True)
+    def _on_watchdog(self) -> None:
+        """Report the simulator lost when joint_states stop (no cycle runs without them)."""
+        if self._joint_states_arrival is None:
+            return
+        silent = time.monotonic() - self._joint_states_arrival
+        timeout = self.get_parameter('sensor_loss_timeout').value
+        answered = self._last_command is not None and self._period is not None and \
+            (self._last_command.header.stamp.sec,
+             self._last_command.header.stamp.nanosec) == self._period
+        # unanswered, a simulator in lockstep waits for this controller: give it longer
+        if silent >= (timeout if answered else UNANSWERED_FACTOR * timeout):
+            message = (f'holding a stance: sensors stale: no joint_states for {silent:.1f} s '
+                       f'(simulator lost)')
+            self.get_logger().error(message, throttle_duration_sec=5.0)
+            self._diag_pub.publish(diagnostics_msg(
+                self.get_clock().now().to_msg(), ControllerDiagnostics.HOLDING, message,
+                self._params))
 
     def destroy_node(self) -> None:
-        for reader in self._readers.values():
+        for reader in (*self._readers.values(), self._state_reader):
             reader.destroy()
         super().destroy_node()
 
     # --- control cycle ----------------------------------------------------------------------
-    def _feedback(self) -> ControllerFeedback:
-        sensors = self._sensors
-        joints = sensors['joint_states']
-        position = dict(zip(joints.name, joints.position))
-        legs = [position[name] for name in self._leg_names]
-        threshold = self.get_parameter('contact_force').value
-        contacts = tuple(sensors[topic].wrench.force.z > threshold
-                         for topic in ('left_foot_wrench', 'right_foot_wrench'))
-        zmp = (sensors['zmp'].point.x, sensors['zmp'].point.y)
-        if self._params.pelvis_source == PELVIS_GROUND_TRUTH:
-            pose, twist = sensors['odom'].pose.pose, sensors['odom'].twist.twist
-            q = pose.orientation
-            # nav_msgs/Odometry gives the twist in the pelvis frame; the controller wants world
-            velocity = quaternion_to_matrix(np.array([q.x, q.y, q.z, q.w])) @ np.array(
-                [twist.linear.x, twist.linear.y, twist.linear.z])
-            return ControllerFeedback(
-                legs, (q.x, q.y, q.z, q.w), zmp, contacts,
-                (pose.position.x, pose.position.y, pose.position.z), velocity)
-        q = sensors['imu'].orientation
-        return ControllerFeedback(legs, (q.x, q.y, q.z, q.w), zmp, contacts)
-
-    def _window(self, t: float):
-        """(window from t, status): the reference, or a standing one when it is stale."""
-        stale = self.get_parameter('stale_timeout').value
-        reference = self._reference
-        if reference is not None:
-            age = t - reference.t[0]
-            dt = reference.t[1] - reference.t[0] if len(reference.t) > 1 else 0.02
-            if -dt <= age <= stale:
-                start = max(0, int(round(age / dt)))
-                if start == 0:
-                    return self._reference_start, None
-                return window_from(reference, start, self._horizon), None
-        if self._last_output is None:
-            return None, 'waiting for a reference'
-        feet = []
-        for side, target in ((LEFT, self._last_output.left_foot_target),
-                             (RIGHT, self._last_output.right_foot_target)):
-            feet.append(Footstep(side, float(target[0]), float(target[1]), float(target[3])))
-        why = 'no reference' if reference is None else \
-            f'reference {t - reference.t[0]:.2f} s old (> {stale} s)'
-        return standing_window(feet[0], feet[1], self._standing_params, t, self._horizon,
-                               self._params.mpc.dt), why
-
     def _control_cycle(self) -> None:
-        msg = self._sensors['joint_states']
-        t = stamp_seconds(msg.header.stamp)
+        t = stamp_seconds_of(self._last_cycle)
+        stamp = Time(sec=self._last_cycle[0], nanosec=self._last_cycle[1])
         try:
-            feedback = self._feedback()
-        except (KeyError, BipedMpcError, ValueError) as error:
-            self.get_logger().error(f'sensor data rejected: {error}', throttle_duration_sec=2.0)
+            feedback = self._intake.feedback(self._params.pelvis_source,
+                                             self.get_parameter('contact_force').value)
+        except KeyError as error:
+            self._hold_joints(stamp, f'no valid {error.args[0]} yet')
             return
-        window, hold_reason = self._window(t)
+        except (BipedMpcError, ValueError) as error:
+            self._hold_joints(stamp, f'sensor data unusable: {error}')
+            return
+        stale = self._intake.stale(self._sensor_topics, t,
+                                   self.get_parameter('sensor_timeout').value)
+        if not stale and self._started:
+            self._check_epoch(t, feedback)
+        feet_now = None if self._last_output is None else \
+            (self._last_output.left_foot_target, self._last_output.right_foot_target)
+        window, hold_reason = self._supervisor.window(
+            t, self.get_parameter('stale_timeout').value, stale,
+            self._controller.latched_feet, feet_now)
+        for event in self._supervisor.take_events():
+            self.get_logger().warning(event)
         if window is None:
-            self._publish_diagnostics(msg.header.stamp, None, ControllerDiagnostics.WAITING,
-                                      hold_reason)
+            self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING,
+                                                   hold_reason, self._params))
             return
         try:
             if not self._started:
                 self._controller.reset(t, feedback)
                 self._started = True
+                self._take_epoch()
             output = self._controller.step(t, window, feedback)
         except BipedMpcError as error:
             self.get_logger().error(f'control cycle failed: {error}', throttle_duration_sec=2.0)
+            self._hold_joints(stamp, f'control cycle failed: {error}')
             return
         self._last_output = output
         command = JointState()
-        command.header.stamp = msg.header.stamp
+        command.header.stamp = stamp
         command.name = self._leg_names
         command.position = np.asarray(output.joint_setpoints, dtype=float).tolist()
         command.velocity = np.asarray(output.joint_velocities, dtype=float).tolist()
         self._command_pub.publish(command)
+        self._last_command = command
         latency = time.monotonic() - self._joint_states_arrival
-        self._soles_pub.publish(sole_poses_msg(output, msg.header.stamp))
+        self._soles_pub.publish(sole_poses_msg(
+            (output.left_foot_target, output.right_foot_target), stamp,
+            self.get_parameter('frames.world').value))
         if hold_reason is not None:
             status, message = ControllerDiagnostics.HOLDING, f'holding a stance: {hold_reason}'
-            self.get_logger().warning(message, throttle_duration_sec=2.0)
         elif output.status & STATUS_MPC_FALLBACK:
             status, message = ControllerDiagnostics.FALLBACK, 'QP failed: shifted previous plan'
         else:
             status, message = ControllerDiagnostics.OK, ''
-        self._publish_diagnostics(msg.header.stamp, output, status, message, latency)
+        self._diag_pub.publish(diagnostics_msg(stamp, status, message, self._params, output,
+                                               latency))
 
-    def _publish_diagnostics(self, stamp, output, status: int, message: str,
-                             latency: float = 0.0) -> None:
-        diag = ControllerDiagnostics()
-        diag.header.stamp = stamp
-        diag.status = status
-        diag.message = message
-        diag.model = self._params.model
-        diag.solver = self._params.mpc.backend
-        diag.dt = self._params.mpc.dt
-        if output is not None:
-            diag.solve_time = float(output.solve_time)
-            diag.cycle_latency = float(latency)
-            cost = np.asarray(output.cost, dtype=float)
-            diag.cost = float(np.nansum(cost)) if np.any(np.isfinite(cost)) else math.nan
-            diag.state_x = np.asarray(output.state[0], dtype=float).tolist()
-            diag.state_y = np.asarray(output.state[1], dtype=float).tolist()
-            diag.zmp_measured_x, diag.zmp_measured_y = (float(v) for v in output.zmp_measured)
-            diag.zmp_estimated_x, diag.zmp_estimated_y = (
-                float(v) for v in output.zmp_estimated)
-            diag.predicted_zmp_x = [float(output.zmp_predicted[0])]
-            diag.predicted_zmp_y = [float(output.zmp_predicted[1])]
-        self._diag_pub.publish(diag)
+    def _hold_joints(self, stamp, why: str) -> None:
+        """No cycle can run: the last setpoints again (the period is answered), or WAITING."""
+        message = f'holding the joints: {why}'
+        self.get_logger().error(message, throttle_duration_sec=2.0)
+        if self._last_command is None:
+            self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING, why,
+                                                   self._params))
+            return
+        command = JointState(name=list(self._last_command.name),
+                             position=list(self._last_command.position))
+        command.header.stamp = stamp
+        self._command_pub.publish(command)
+        self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.HOLDING, message,
+                                               self._params))
+
+    # --- reset (walking_state.epoch) --------------------------------------------------------
+    def _take_epoch(self) -> None:
+        """Read the newest valid walking_state's epoch: a change is applied when it can be, a
+        return to the applied epoch cancels it."""
+        for msg in self._state_reader.take_all():
+            why = walking_state_problem(msg)
+            if why is not None:
+                self._reject('walking_state', why)
+                continue
+            if self._epoch is None:
+                self._epoch = msg.epoch  # the epoch the controller started in
+            elif msg.epoch == self._epoch:
+                self._epoch_pending = None
+            elif msg.epoch != self._epoch_pending:
+                self._epoch_pending = msg.epoch
+                if msg.phase != WalkingState.IDLE:
+                    self._reject('walking_state', f'epoch {msg.epoch} not used yet: a reset '
+                                 f'comes in Idle; it applies once the robot stands still')
+
+    def _check_epoch(self, t: float, feedback: ControllerFeedback) -> None:
+        """After a reset of the robot (a new epoch), restart from the sensors once it stands
+        still on both feet: a fallen robot's data would be a wrong start."""
+        self._take_epoch()
+        if self._epoch_pending is None or not feedback.standing_still(STILL_TILT, STILL_SPEED):
+            return
+        epoch, self._epoch_pending = self._epoch_pending, None
+        self._epoch = epoch
+        self._controller.reset(t, feedback)
+        self._supervisor.stand(*self._controller.latched_feet, t,
+                               f'reset (epoch {epoch}): standing until a reference fits the feet')
+        self.get_logger().info(f'epoch {epoch}: estimate, stance and commands restarted from '
+                               f'the sensors at t={t:.2f} s; old references dropped')
+
+
+def stamp_seconds_of(stamp) -> float:
+    """Seconds of a (sec, nanosec) stamp."""
+    return stamp[0] + stamp[1] * 1e-9
 
 
 def main(args=None) -> None:

@@ -7,7 +7,7 @@ biped package.
 """
 import dataclasses
 import math
-from typing import Callable, Dict, Optional, Tuple, Type, TypeVar
+from typing import Callable, Dict, Iterable, Optional, Tuple, Type, TypeVar
 
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
@@ -20,8 +20,9 @@ T = TypeVar('T')
 ParameterSpecs = Dict[str, Tuple[str, Optional[Tuple[float, float]]]]
 
 
-def _descriptor(name: str, value, description: str, bounds) -> ParameterDescriptor:
-    descriptor = ParameterDescriptor(name=name, description=description)
+def _descriptor(name: str, value, description: str, bounds,
+                read_only: bool = False) -> ParameterDescriptor:
+    descriptor = ParameterDescriptor(name=name, description=description, read_only=read_only)
     if bounds is None or isinstance(value, bool):
         return descriptor
     if all(isinstance(b, str) for b in bounds):
@@ -47,8 +48,9 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
     :param specs: description (with unit) and allowed range of each field that is not declared
         with biped_planner.parameter_fields.parameter (those carry their own)
     :param prefix: parameter name prefix, e.g. 'timing.' (empty: the field names)
-    :param on_change: called with the new dataclass after an accepted live change; None makes
-        every live change of these parameters rejected (the node cannot honour it)
+    :param on_change: called with the new dataclass after an accepted live change; None
+        declares the parameters read-only (the node cannot honour a live change: rclpy refuses
+        it, naming the parameter)
     :param fixed: values of fields that are not parameters (e.g. nested dataclasses)
     :return: the dataclass built from the declared values
     :raises ValueError: when the values given at start-up are refused by the dataclass
@@ -68,18 +70,17 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
         elif isinstance(value, int) and not isinstance(value, bool):
             value = int(value)
         description, bounds = specs[name]
-        node.declare_parameter(prefix + name, value,
-                               _descriptor(prefix + name, value, description, bounds))
+        node.declare_parameter(prefix + name, value, _descriptor(
+            prefix + name, value, description, bounds, read_only=on_change is None))
     current = _build(cls, node, names, prefix, {}, fixed)
+    if on_change is None:
+        return current
 
     def on_set(parameters) -> SetParametersResult:
         changes = {p.name[len(prefix):]: p.value for p in parameters
                    if p.name.startswith(prefix) and p.name[len(prefix):] in names}
         if not changes:
             return SetParametersResult(successful=True)
-        if on_change is None:
-            return SetParametersResult(
-                successful=False, reason=f'{sorted(changes)} cannot change while running')
         try:
             updated = _build(cls, node, names, prefix, changes, fixed)
         except (ValueError, TypeError) as error:
@@ -106,21 +107,30 @@ def _build(cls, node: Node, names, prefix: str, overrides: dict, fixed: dict):
 NodeParameterSpecs = Dict[str, Tuple[object, str, Optional[tuple]]]
 
 
-def declare_node_parameters(node: Node, specs: NodeParameterSpecs) -> None:
+def declare_node_parameters(node: Node, specs: NodeParameterSpecs,
+                            read_only: Iterable[str] = ()) -> None:
     """Declare a node's own parameters (those not from a dataclass) with descriptions and ranges.
 
     Numeric ranges go into the descriptor, so rclpy refuses out-of-range values at start-up and
     in live changes; string choices are checked here, at start-up and on every live change.
 
+    :param read_only: names of the parameters read at start only: declared read-only, so that
+        rclpy refuses a live change of them
+
     :raises ValueError: when a start-up value is not one of its allowed strings
     """
+    read_only = set(read_only)
+    unknown = read_only - set(specs)
+    if unknown:
+        raise KeyError(f'read_only names parameters not in specs: {sorted(unknown)}')
     choices = {}
     for name, (default, description, bounds) in specs.items():
         if bounds is not None and all(isinstance(b, str) for b in bounds):
             choices[name] = tuple(bounds)
             bounds = None
             description = f'{description}; one of {", ".join(choices[name])}'
-        node.declare_parameter(name, default, _descriptor(name, default, description, bounds))
+        node.declare_parameter(name, default, _descriptor(name, default, description, bounds,
+                                                          read_only=name in read_only))
         if name in choices and node.get_parameter(name).value not in choices[name]:
             raise ValueError(f'parameter {name} = {node.get_parameter(name).value!r} must be one '
                              f'of {choices[name]}')

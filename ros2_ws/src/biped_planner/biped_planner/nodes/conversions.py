@@ -6,27 +6,99 @@ import math
 
 from biped_msgs.msg import (CommandStatus, Footstep as FootstepMsg, FootstepPlan,
                             WalkCommand as WalkCommandMsg, WalkingState)
-from geometry_msgs.msg import PoseStamped, Quaternion
+from biped_msgs.srv import PlanWalk
+from geometry_msgs.msg import PoseStamped, Quaternion, Twist
 from nav_msgs.msg import Path
 from visualization_msgs.msg import Marker, MarkerArray
 
+from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
+from biped_planner.plan_requests import ReceivedPlan
 from biped_planner.pose2d import Pose2D
+from biped_planner.pose_checks import check_pose, PoseBounds
 from biped_planner.rotations import mean_angle, quaternion_from_yaw, wrap_angle, yaw_of_quaternion
-from biped_planner.sides import LEFT, RIGHT
-from biped_planner.walk_command import CommandLimits, WalkCommand
+from biped_planner.sides import LEFT, RIGHT, SIDES
+from biped_planner.step_timing import StepTiming
+from biped_planner.walk_command import (check_command_frame, CommandLimits, goal_command,
+                                        velocity_command, WalkCommand)
 from biped_planner.walking_state_machine import WalkingStatus
 
 
-def walk_command_from_msg(msg: WalkCommandMsg, limits: CommandLimits) -> WalkCommand:
-    """:raises CommandError: when a field is unknown, not finite or out of range."""
-    return WalkCommand.from_fields(
+def walk_command_from_msg(msg: WalkCommandMsg, limits: CommandLimits,
+                          map_frame: str = 'map') -> WalkCommand:
+    """:raises CommandError: when a field is unknown, not finite or out of range
+    :raises FrameError: when a GOTO names another frame than map_frame (empty is map_frame)"""
+    command = WalkCommand.from_fields(
         msg.command, (msg.goal_x, msg.goal_y, msg.goal_yaw),
         (msg.step_length, msg.step_width, msg.step_angle), msg.step_time, limits)
+    check_command_frame(command, msg.header.frame_id, map_frame)
+    return command
+
+
+def goal_command_from_msg(msg: PoseStamped, map_frame: str, limits: CommandLimits
+                          ) -> WalkCommand:
+    """A GOTO command from a goal_pose (biped_planner.walk_command.goal_command).
+
+    :raises FrameError: unless the header names map_frame
+    :raises CommandError: for non-finite values, a far goal or a non-unit quaternion
+    """
+    p, q = msg.pose.position, msg.pose.orientation
+    return goal_command(msg.header.frame_id, map_frame, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w),
+                        limits)
+
+
+def velocity_from_twist(msg: Twist, limits: CommandLimits) -> tuple:
+    """(vx, vy, wz) of a cmd_vel (biped_planner.walk_command.velocity_command).
+
+    :raises CommandError: for non-finite values or speeds beyond the limits
+    """
+    return velocity_command((msg.linear.x, msg.linear.y, msg.linear.z),
+                            (msg.angular.x, msg.angular.y, msg.angular.z), limits)
+
+
+def plan_walk_request(request_id: int, kind: int, command: WalkCommandMsg = None,
+                      goal: PoseStamped = None, velocity: Twist = None) -> PlanWalk.Request:
+    request = PlanWalk.Request()
+    request.request_id = int(request_id)
+    request.kind = int(kind)
+    if command is not None:
+        request.command = command
+    if goal is not None:
+        request.goal = goal
+    if velocity is not None:
+        request.velocity = velocity
+    return request
+
+
+def received_plan(msg: FootstepPlan) -> ReceivedPlan:
+    """What the state machine needs of a footstep plan.
+
+    :raises InputError: for an unknown status, a footstep that is not finite or has an unknown
+        side, or (in an OK plan) support durations that are not finite and positive
+    """
+    if msg.status not in (FootstepPlan.STATUS_OK, FootstepPlan.STATUS_FAILED):
+        raise InputError(f'footstep_plan {msg.plan_id}: unknown status {msg.status}')
+    if msg.status != FootstepPlan.STATUS_OK:
+        return ReceivedPlan(msg.plan_id, msg.request_id, False, error_code=msg.error_code,
+                            error_msg=msg.error_msg)
+    for index, step in enumerate(msg.footsteps):
+        if step.side not in SIDES:
+            raise InputError(f'footstep_plan {msg.plan_id}: footsteps[{index}].side '
+                             f'{step.side} is neither LEFT (0) nor RIGHT (1)')
+        if not all(math.isfinite(v) for v in (step.x, step.y, step.z, step.yaw)):
+            raise InputError(f'footstep_plan {msg.plan_id}: footsteps[{index}] is not finite')
+    try:
+        StepTiming(float(msg.single_support), float(msg.double_support))
+    except ConfigError as error:
+        raise InputError(f'footstep_plan {msg.plan_id}: {error}') from None
+    first = msg.footsteps[0].side if msg.footsteps else None
+    return ReceivedPlan(msg.plan_id, msg.request_id, True, bool(msg.continuous),
+                        max(0, len(msg.footsteps) - 2), first, float(msg.single_support),
+                        float(msg.double_support))
 
 
 def walking_state_msg(status: WalkingStatus, now: float, stamp, plan_id: int,
-                      inputs_stale: bool) -> WalkingState:
+                      stale_inputs=()) -> WalkingState:
     msg = WalkingState()
     msg.header.stamp = stamp
     msg.phase = int(status.phase)
@@ -38,7 +110,9 @@ def walking_state_msg(status: WalkingStatus, now: float, stamp, plan_id: int,
     msg.plan_id = int(plan_id)
     msg.fallen = status.fallen
     msg.stop_requested = status.stop_requested
-    msg.inputs_stale = inputs_stale
+    msg.inputs_stale = bool(stale_inputs)
+    msg.stale_inputs = [str(name) for name in stale_inputs]
+    msg.epoch = int(status.epoch) % 2 ** 32
     msg.reason = status.reason
     return msg
 
@@ -70,6 +144,16 @@ def pose2d_from_pose(pose) -> Pose2D:
     return Pose2D(pose.position.x, pose.position.y, yaw_of_msg(pose.orientation))
 
 
+def checked_pose2d(name: str, pose, bounds: PoseBounds) -> Pose2D:
+    """The planar pose of a measured geometry_msgs/Pose (biped_planner.pose_checks).
+
+    :raises InputError: when it is not finite, beyond the workspace or not a unit quaternion
+    """
+    p, q = pose.position, pose.orientation
+    check_pose(name, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w), bounds)
+    return pose2d_from_pose(pose)
+
+
 def footstep_msgs(footsteps) -> list:
     return [FootstepMsg(side=int(f.side), x=float(f.x), y=float(f.y), yaw=float(f.yaw))
             for f in footsteps]
@@ -80,11 +164,12 @@ def footsteps_from_msgs(msgs) -> list:
 
 
 def footstep_plan_msg(update, single_support: float, double_support: float, frame_id: str,
-                      stamp) -> FootstepPlan:
+                      stamp, request_id: int = 0) -> FootstepPlan:
     msg = FootstepPlan()
     msg.header.frame_id = frame_id
     msg.header.stamp = stamp
     msg.plan_id = int(update.plan_id)
+    msg.request_id = int(request_id)
     msg.status = FootstepPlan.STATUS_OK
     msg.error_code = FootstepPlan.ERROR_NONE
     msg.continuous = bool(update.continuous)
@@ -95,11 +180,12 @@ def footstep_plan_msg(update, single_support: float, double_support: float, fram
 
 
 def failed_plan_msg(plan_id: int, error_code: int, error_msg: str, frame_id: str,
-                    stamp) -> FootstepPlan:
+                    stamp, request_id: int = 0) -> FootstepPlan:
     msg = FootstepPlan()
     msg.header.frame_id = frame_id
     msg.header.stamp = stamp
     msg.plan_id = int(plan_id)
+    msg.request_id = int(request_id)
     msg.status = FootstepPlan.STATUS_FAILED
     msg.error_code = error_code
     msg.error_msg = error_msg
@@ -144,15 +230,18 @@ def footstep_markers(footsteps, foot_length: float, foot_width: float, frame_id:
     return markers
 
 
-def feet_from_sole_poses(msg):
+def feet_from_sole_poses(msg, bounds: PoseBounds = PoseBounds()):
     """[left, right] Footsteps from a geometry_msgs/PoseArray of the two soles.
 
-    :raises ValueError: unless it holds exactly two finite poses
+    :raises ValueError: unless it holds exactly two finite poses within the bounds (an
+        InputError when a pose is out of bounds)
     """
     if len(msg.poses) != 2:
         raise ValueError(f'sole_poses must hold 2 poses, got {len(msg.poses)}')
     feet = []
     for side, pose in zip((LEFT, RIGHT), msg.poses):
+        p, q = pose.position, pose.orientation
+        check_pose(f'sole_poses[{side}]', (p.x, p.y, p.z), (q.x, q.y, q.z, q.w), bounds)
         values = (pose.position.x, pose.position.y, yaw_of_msg(pose.orientation))
         if not all(math.isfinite(v) for v in values):
             raise ValueError('sole_poses are not finite')

@@ -1,23 +1,29 @@
-"""The A* and footstep planner node: map, goals and commands in, footstep plans out.
+"""The A* and footstep planner node: the planner server of the walking stack.
 
-Subscribes: map (nav_msgs/OccupancyGrid, transient local), goal_pose (geometry_msgs/PoseStamped),
-walk_command (biped_msgs/WalkCommand), cmd_vel (geometry_msgs/Twist), sole_poses
-(geometry_msgs/PoseArray from the controller: a plan starts between the feet; odom until then),
-walking_state (biped_msgs/WalkingState: teleop plans stay ahead of it).
+The state machine is the one entry point of user intent (walk_command, goal_pose, cmd_vel); it
+asks this node for plans over the service plan_walk (biped_msgs/PlanWalk: request id, kind,
+command, goal or velocity -> accepted, plan_id, error code), the way nav2's navigator calls its
+planner server. Every plan published answers a request: FootstepPlan.request_id is that
+request's id, or 0 for this node's own extension of a continuous (teleop) plan.
+
+Service: plan_walk (biped_msgs/PlanWalk).
+Subscribes: map (nav_msgs/OccupancyGrid, transient local), sole_poses (geometry_msgs/PoseArray
+from the controller: a plan starts between the feet; odom until then), walking_state
+(biped_msgs/WalkingState: teleop plans stay ahead of it).
 Publishes (transient local): footstep_plan (biped_msgs/FootstepPlan, with status and error code),
-plan (nav_msgs/Path), footstep_markers (visualization_msgs/MarkerArray); and
-walk_command_status (biped_msgs/CommandStatus) for the commands it acts on.
+plan (nav_msgs/Path), footstep_markers (visualization_msgs/MarkerArray).
 """
-import math
+from typing import Optional, Tuple
 
-from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkCommandMsg, WalkingState
-from geometry_msgs.msg import PoseArray, PoseStamped, Twist
+from biped_msgs.msg import FootstepPlan, WalkingState
+from biped_msgs.srv import PlanWalk
+from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
 from rclpy.node import Node
 from visualization_msgs.msg import MarkerArray
 
 from biped_planner.astar import AStarPlanner
-from biped_planner.errors import (BipedPlannerError, CommandError, GoalOccupiedError,
+from biped_planner.errors import (BipedPlannerError, CommandError, FrameError, GoalOccupiedError,
                                   GoalOutsideMapError, MapError, NoPathError,
                                   StartOccupiedError, StartOutsideMapError)
 from biped_planner.footstep_planner import FootstepPlanner, FootstepPlannerParams
@@ -26,17 +32,19 @@ from biped_planner.node_support.dataclass_parameters import (declare_dataclass_p
 from biped_planner.node_support.map_messages import grid_from_msg
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED, LATCHED_IN
-from biped_planner.nodes.conversions import (body_between, command_status_msg, failed_plan_msg,
+from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.nodes.conversions import (body_between, checked_pose2d, failed_plan_msg,
                                              feet_from_sole_poses, footstep_markers,
-                                             footstep_plan_msg, path_msg, pose2d_from_pose,
-                                             walk_command_from_msg)
+                                             footstep_plan_msg, goal_command_from_msg, path_msg,
+                                             velocity_from_twist, walk_command_from_msg)
 from biped_planner.occupancy_grid import InflationParams
 from biped_planner.omnidirectional_stepper import command_from_twist, StepCommand, StepperParams
 from biped_planner.plan_session import LOOKAHEAD_RANGE, PlanMode, PlanSession
 from biped_planner.pose2d import Pose2D
+from biped_planner.pose_checks import check_pose, PoseBounds
 from biped_planner.step_timing import StepTiming
 from biped_planner.walk_command import CommandKind, CommandLimits
-from biped_planner.walking_state_machine import WALKING_PHASES
+from biped_planner.walking_state_machine import Phase, WALKING_PHASES
 
 
 PLANNING_ERRORS = [
@@ -46,8 +54,21 @@ PLANNING_ERRORS = [
     (GoalOccupiedError, FootstepPlan.ERROR_GOAL_OCCUPIED),
     (NoPathError, FootstepPlan.ERROR_NO_PATH),
     (MapError, FootstepPlan.ERROR_MALFORMED_MAP),
+    (FrameError, FootstepPlan.ERROR_UNKNOWN_FRAME),
     (CommandError, FootstepPlan.ERROR_INVALID_COMMAND),
 ]
+PHASES = {int(phase) for phase in Phase}
+SUPPORTS = {WalkingState.SUPPORT_LEFT, WalkingState.SUPPORT_RIGHT, WalkingState.SUPPORT_DOUBLE}
+MAX_RESOLUTION = 100.0  # m: a map cell larger than this is no map of a walking robot
+# The reference generator splices a new plan in at the next double support: from a double
+# support on, or this close before one (s), the next step is committed and a stop ends after it.
+STOP_LEAD = 0.1
+Failure = Optional[Tuple[int, str]]  # (FootstepPlan error code, message), None: success
+
+
+def error_code_of(error: BipedPlannerError) -> int:
+    return next((code for kind, code in PLANNING_ERRORS if isinstance(error, kind)),
+                FootstepPlan.ERROR_INTERNAL)
 
 
 class FootstepPlannerNode(Node):
@@ -67,6 +88,9 @@ class FootstepPlannerNode(Node):
         self._limits = declare_dataclass_parameters(
             self, CommandLimits(), {}, prefix='limits.',
             on_change=lambda p: setattr(self, '_limits', p))
+        self._bounds = declare_dataclass_parameters(
+            self, PoseBounds(), {}, prefix='pose_bounds.',
+            on_change=lambda p: setattr(self, '_bounds', p))
         # The step timing written into every plan.
         self._timing = declare_dataclass_parameters(
             self, StepTiming(), {}, on_change=lambda p: setattr(self, '_timing', p))
@@ -75,8 +99,10 @@ class FootstepPlannerNode(Node):
             'teleop_lookahead': (2, 'teleop steps planned beyond the one being taken',
                                  LOOKAHEAD_RANGE),
             'foot_length': (0.2, 'sole length, for the markers (m)', (0.01, 1.0)),
-            'foot_width': (0.1, 'sole width, for the markers (m)', (0.01, 1.0))})
+            'foot_width': (0.1, 'sole width, for the markers (m)', (0.01, 1.0))},
+            read_only=('map_frame', 'teleop_lookahead'))
         self._frame = self.get_parameter('map_frame').value
+        self._reject = RejectionLog(self.get_logger().warning)
         self._session = PlanSession(FootstepPlanner(planner_params), stepper_params,
                                     lookahead=self.get_parameter('teleop_lookahead').value)
         self._astar = None
@@ -85,43 +111,47 @@ class FootstepPlannerNode(Node):
         self._plan_pub = self.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
         self._path_pub = self.create_publisher(Path, 'plan', LATCHED)
         self._marker_pub = self.create_publisher(MarkerArray, 'footstep_markers', LATCHED)
-        self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
         self.create_subscription(OccupancyGridMsg, 'map', self._on_map, LATCHED_IN)
-        self.create_subscription(PoseStamped, 'goal_pose', self._on_goal, 10)
-        self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
-        self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
         # odom is read until sole_poses arrive, then unsubscribed (a message every period)
         self._odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, 10)
         self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
         self._soles_seen = False
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
+        self.create_service(PlanWalk, 'plan_walk', self._on_plan_walk)
         self.get_logger().info('footstep planner ready (waiting for map and odom)')
 
     # --- inputs -----------------------------------------------------------------------------
     def _on_map(self, msg: OccupancyGridMsg) -> None:
-        if msg.header.frame_id not in ('', self._frame):
-            self.get_logger().error(f'map in frame {msg.header.frame_id!r} ignored: expected '
-                                    f'{self._frame!r}')
-            self._astar = None
-            return
+        """A new map replaces the old one; a bad one leaves no map (goals then fail NO_MAP)."""
+        info = msg.info
         try:
+            if msg.header.frame_id != self._frame:
+                raise MapError(f'frame {msg.header.frame_id!r}, expected {self._frame!r}')
+            if not 0.0 < info.resolution <= MAX_RESOLUTION:  # NaN fails too
+                raise MapError(f'resolution {info.resolution} must be in (0, {MAX_RESOLUTION}] m')
+            p, q = info.origin.position, info.origin.orientation
+            check_pose('map origin', (p.x, p.y, p.z), (q.x, q.y, q.z, q.w), self._bounds)
             self._astar = AStarPlanner(grid_from_msg(msg), self._inflation)
-        except BipedPlannerError as error:
+        except (BipedPlannerError, ValueError) as error:
             self._astar = None
-            self.get_logger().error(f'map rejected: {error}')
+            self._reject('map', error)
             return
         self.get_logger().info(f'map {msg.info.width} x {msg.info.height} cells of '
                                f'{msg.info.resolution} m')
 
     def _on_soles(self, msg: PoseArray) -> None:
-        """Plans start between the feet (the pelvis is not above their midpoint)."""
-        if self._walking():
-            return
+        """Plans start between the feet (the pelvis is not above their midpoint); while
+        walking, the plan being walked says where the feet go."""
         try:
-            self._pose = body_between(feet_from_sole_poses(msg))
-            self._soles_seen = True
+            if msg.header.frame_id != self._frame:
+                raise MapError(f'frame {msg.header.frame_id!r}, expected {self._frame!r}')
+            pose = body_between(feet_from_sole_poses(msg, self._bounds))
         except (ValueError, BipedPlannerError) as error:
-            self.get_logger().warning(f'sole_poses ignored: {error}', throttle_duration_sec=5.0)
+            self._reject('sole_poses', error)
+            return
+        if not self._walking():
+            self._pose = pose
+            self._soles_seen = True
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._soles_seen:
@@ -130,123 +160,142 @@ class FootstepPlannerNode(Node):
                 self._odom_sub = None
             return
         try:
-            self._pose = pose2d_from_pose(msg.pose.pose)
-        except BipedPlannerError:
-            self.get_logger().warning('odometry with a non-finite pose ignored',
-                                      throttle_duration_sec=5.0)
+            if msg.header.frame_id != self._frame:
+                raise MapError(f'frame {msg.header.frame_id!r}, expected {self._frame!r}')
+            self._pose = checked_pose2d('odom', msg.pose.pose, self._bounds)
+        except BipedPlannerError as error:
+            self._reject('odom', error)
 
     def _on_state(self, msg: WalkingState) -> None:
+        if msg.phase not in PHASES or msg.support_foot not in SUPPORTS:
+            self._reject('walking_state', f'phase {msg.phase} or support_foot '
+                         f'{msg.support_foot} unknown')
+            return
         previous = self._state
         self._state = msg
         if msg.phase == WalkingState.IDLE and previous is not None and \
                 previous.phase in WALKING_PHASES:
             self._session.walk_finished()
         elif msg.phase in (WalkingState.SINGLE_SUPPORT, WalkingState.DOUBLE_SUPPORT):
-            self._publish(self._session.on_step(msg.step_index))
+            try:
+                self._publish(self._session.on_step(msg.step_index))
+            except BipedPlannerError as error:
+                self._reject('walking_state', error)
 
-    def _on_goal(self, msg: PoseStamped) -> None:
-        if msg.header.frame_id not in ('', self._frame):
-            self._fail(FootstepPlan.ERROR_UNKNOWN_FRAME,
-                       f'goal_pose in frame {msg.header.frame_id!r}: only {self._frame!r} '
-                       'is known (no tf here)')
-            return
+    # --- the plan_walk service --------------------------------------------------------------
+    def _on_plan_walk(self, request: PlanWalk.Request, response: PlanWalk.Response):
         try:
-            goal = pose2d_from_pose(msg.pose)
-        except BipedPlannerError as error:
-            self._fail(FootstepPlan.ERROR_INVALID_COMMAND, f'goal_pose: {error}')
-            return
-        self._goto(goal)
+            failure = self._serve(request)
+        except BipedPlannerError as error:  # a library error not caught below: still answered
+            failure = self._fail(error_code_of(error), str(error), request.request_id)
+        response.plan_id = int(self._session.plan_id)
+        response.accepted = failure is None
+        response.error_code, response.error_msg = failure or (FootstepPlan.ERROR_NONE, '')
+        return response
 
-    def _on_command(self, msg: WalkCommandMsg) -> None:
+    def _serve(self, request: PlanWalk.Request) -> Failure:
+        rid = request.request_id
         try:
-            command = walk_command_from_msg(msg, self._limits)
-        except CommandError:
-            return  # the state machine answers invalid commands
-        kind = command.kind
-        error = None
-        if kind == CommandKind.GOTO:
-            error = self._goto(Pose2D(*command.goal))
-        elif kind == CommandKind.START and self._session.mode == PlanMode.GOTO:
-            pass  # walk the goal plan already published
-        elif kind in (CommandKind.OMNI, CommandKind.START):
-            error = self._teleop(StepCommand(*command.step), command.step_time)
-        elif kind == CommandKind.STOP:
-            self._stop()
-        else:
-            return
-        self._status_pub.publish(command_status_msg(
-            self.get_name(), msg.command, CommandStatus.OK if error is None else
-            CommandStatus.INVALID_VALUE, error or '', self.get_clock().now().to_msg()))
-
-    def _on_cmd_vel(self, msg: Twist) -> None:
-        values = (msg.linear.x, msg.linear.y, msg.angular.z)
-        if not all(math.isfinite(v) for v in values):
-            self.get_logger().warning(f'cmd_vel {values} is not finite: ignored',
-                                      throttle_duration_sec=2.0)
-            return
-        step_time = self._step_time()
-        self._teleop(command_from_twist(*values, step_time), 0.0)
+            if request.kind == PlanWalk.Request.KIND_COMMAND:
+                command = walk_command_from_msg(request.command, self._limits, self._frame)
+            elif request.kind == PlanWalk.Request.KIND_GOAL:
+                command = goal_command_from_msg(request.goal, self._frame, self._limits)
+            elif request.kind == PlanWalk.Request.KIND_VELOCITY:
+                velocity = velocity_from_twist(request.velocity, self._limits)
+                return self._teleop(command_from_twist(*velocity, self._timing.step_time), 0.0,
+                                    rid)
+            elif request.kind == PlanWalk.Request.KIND_CANCEL:
+                return self._stop(rid)
+            else:
+                return self._fail(FootstepPlan.ERROR_INVALID_COMMAND,
+                                  f'unknown request kind {request.kind}', rid)
+        except CommandError as error:
+            return self._fail(error_code_of(error), str(error), rid)
+        if command.kind == CommandKind.GOTO:
+            return self._goto(Pose2D(*command.goal), rid)
+        if command.kind in (CommandKind.START, CommandKind.OMNI):
+            return self._teleop(StepCommand(*command.step), command.step_time, rid)
+        return self._stop(rid)  # STOP, and RESET: the state machine resets, the plan ends
 
     # --- planning ---------------------------------------------------------------------------
-    def _step_time(self) -> float:
-        return self._timing.step_time
-
     def _walking(self) -> bool:
         return self._state is not None and self._state.phase in WALKING_PHASES
 
-    def _goto(self, goal: Pose2D):
+    def _goto(self, goal: Pose2D, request_id: int) -> Failure:
         if self._astar is None:
-            return self._fail(FootstepPlan.ERROR_NO_MAP, 'no valid map received on map')
+            return self._fail(FootstepPlan.ERROR_NO_MAP, 'no valid map received on map',
+                              request_id)
         if self._pose is None:
-            return self._fail(FootstepPlan.ERROR_NO_POSE, 'no odometry received on odom')
+            return self._fail(FootstepPlan.ERROR_NO_POSE, 'no odometry received on odom',
+                              request_id)
         if self._walking():
             return self._fail(FootstepPlan.ERROR_INVALID_COMMAND,
-                              'GOTO while walking: send STOP first, then the goal')
+                              'GOTO while walking: send STOP first, then the goal', request_id)
         try:
             update = self._session.goto(self._astar, self._pose, goal)
         except BipedPlannerError as error:
-            code = next((c for kind, c in PLANNING_ERRORS if isinstance(error, kind)),
-                        FootstepPlan.ERROR_INTERNAL)
-            return self._fail(code, str(error))
+            return self._fail(error_code_of(error), str(error), request_id)
         self._path_pub.publish(path_msg(update.path, self._frame,
                                         self.get_clock().now().to_msg()))
-        self.get_logger().info(f'plan {update.plan_id}: {len(update.footsteps) - 2} steps to '
-                               f'({goal.x:.2f}, {goal.y:.2f})')
-        self._publish(update)
+        self.get_logger().info(f'plan {update.plan_id} (request {request_id}): '
+                               f'{len(update.footsteps) - 2} steps to ({goal.x:.2f}, '
+                               f'{goal.y:.2f})')
+        self._publish(update, request_id)
         return None
 
-    def _teleop(self, command: StepCommand, step_time: float):
+    def _teleop(self, command: StepCommand, step_time: float, request_id: int) -> Failure:
         if self._pose is None and self._session.mode != PlanMode.TELEOP:
-            return self._fail(FootstepPlan.ERROR_NO_POSE, 'no odometry received on odom')
+            return self._fail(FootstepPlan.ERROR_NO_POSE, 'no odometry received on odom',
+                              request_id)
+        if self._walking() and self._session.mode != PlanMode.TELEOP:
+            return self._fail(FootstepPlan.ERROR_INVALID_COMMAND,
+                              'the walk follows a goal plan or is stopping: send STOP and wait '
+                              'for IDLE before a teleop command', request_id)
         step = self._state.step_index if self._walking() else 0
         try:
-            update = self._session.teleop(command, step_time or self._step_time(),
+            update = self._session.teleop(command, step_time or self._timing.step_time,
                                           self._pose or Pose2D(0.0, 0.0), step)
         except BipedPlannerError as error:
-            return self._fail(FootstepPlan.ERROR_INVALID_COMMAND, str(error))
-        self._publish(update)
+            return self._fail(error_code_of(error), str(error), request_id)
+        self._publish(update, request_id)
         return None
 
-    def _stop(self) -> None:
-        step = self._state.step_index if self._state is not None else 0
-        self._publish(self._session.stop(step, self._walking()))
+    def _stop(self, request_id: int) -> Failure:
+        step = self._committed_step()
+        try:
+            self._publish(self._session.stop(step, self._walking()), request_id)
+        except BipedPlannerError as error:
+            return self._fail(error_code_of(error), str(error), request_id)
+        return None
 
-    def _publish(self, update) -> None:
+    def _committed_step(self) -> int:
+        """The last step the walk takes before a stop's closing step (0 standing)."""
+        state = self._state
+        if state is None or state.phase not in WALKING_PHASES:
+            return 0
+        left = state.phase_duration - state.time_in_phase
+        if state.phase == WalkingState.DOUBLE_SUPPORT or (
+                state.phase == WalkingState.SINGLE_SUPPORT and left < STOP_LEAD):
+            return state.step_index + 1
+        return state.step_index
+
+    def _publish(self, update, request_id: int = 0) -> None:
         if update is None:
             return
         stamp = self.get_clock().now().to_msg()
         self._plan_pub.publish(footstep_plan_msg(
             update, self._timing.single_support, self._timing.double_support, self._frame,
-            stamp))
+            stamp, request_id))
         self._marker_pub.publish(footstep_markers(
             update.footsteps, self.get_parameter('foot_length').value,
             self.get_parameter('foot_width').value, self._frame, stamp))
 
-    def _fail(self, code: int, message: str) -> str:
-        self.get_logger().error(f'planning failed ({code}): {message}')
+    def _fail(self, code: int, message: str, request_id: int) -> Failure:
+        self.get_logger().error(f'request {request_id} failed ({code}): {message}')
         self._plan_pub.publish(failed_plan_msg(self._session.plan_id, code, message,
-                                               self._frame, self.get_clock().now().to_msg()))
-        return message
+                                               self._frame, self.get_clock().now().to_msg(),
+                                               request_id))
+        return code, message
 
 
 def main(args=None) -> None:

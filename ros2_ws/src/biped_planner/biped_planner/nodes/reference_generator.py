@@ -1,37 +1,59 @@
 """The reference generator node: footstep plan + walking state in, MPC references out.
 
 Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_state
-(biped_msgs/WalkingState: the walk's start time and phase), sole_poses (geometry_msgs/PoseArray
-from the controller: where to stand before the first walk; odom until it arrives),
-joint_commands (sensor_msgs/JointState from the controller, on sim time: see below).
+(biped_msgs/WalkingState: the walk's start time and phase, the reset epoch), sole_poses
+(geometry_msgs/PoseArray from the controller: where to stand before the first walk; odom until
+it arrives), joint_commands (sensor_msgs/JointState from the controller, on sim time: see below).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
-samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds.
+samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds;
+diagnostics (diagnostic_msgs/DiagnosticArray: whether walking_state arrives) once a second and
+when that changes.
 
 On sim time the controller waits for the reference of each period (lockstep). Once it has
 answered period t (its joint command stamped t), the simulator steps to t + 1 / rate, so the
 reference of that period is sent at once, while physics runs, instead of at its clock tick;
 a tick whose reference has not gone out that way (no controller yet) still sends it.
+
+A new walking_state.epoch (the state machine reset the robot) drops the walk, its plan and the
+standing feet: the references stand where the controller's sole_poses put the feet again. An
+epoch change while walking is refused (a reset is refused while walking). Inputs are checked at
+the boundary (frames, finite values, the workspace, footsteps farther apart than
+max_footstep_distance, unknown phases): a refused message is logged and ignored. walking_state
+silent for state_timeout (the state machine is gone) is reported ERROR on diagnostics; the
+current walk's reference then runs to its plan's end and stands.
 """
+import time
+
 from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkingState
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.time import Time
 from sensor_msgs.msg import JointState
 
 from biped_planner.errors import BipedPlannerError
 from biped_planner.footsteps import feet_beside
+from biped_planner.input_watch import InputWatch
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
-from biped_planner.nodes.conversions import (feet_from_sole_poses, footsteps_from_msgs,
-                                             pose2d_from_pose)
+from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.node_support.walking_state_checks import walking_state_problem
+from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_poses,
+                                             footsteps_from_msgs)
+from biped_planner.pose_checks import PoseBounds
 from biped_planner.reference_params import ReferenceParams
-from biped_planner.reference_session import ReferenceSession
+from biped_planner.reference_session import check_footsteps, ReferenceSession
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_state_machine import WALKING_PHASES
+
+WATCH_PERIOD = 0.1  # s of wall time between checks that walking_state still comes
+DIAGNOSTICS_PERIOD = 1.0  # s of wall time
+MAX_STAMP_LEAD = 1.0  # s: a joint command or walk start farther ahead of the clock is refused
 
 
 class ReferenceGeneratorNode(Node):
@@ -40,31 +62,51 @@ class ReferenceGeneratorNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__('reference_generator', **kwargs)
         # Descriptions and ranges come from ReferenceParams' parameter() fields.
-        params = declare_dataclass_parameters(self, ReferenceParams(), {})
+        self._reference_params = declare_dataclass_parameters(self, ReferenceParams(), {})
+        self._bounds = declare_dataclass_parameters(
+            self, PoseBounds(), {}, prefix='bounds.',
+            on_change=lambda p: setattr(self, '_bounds', p))
         declare_node_parameters(self, {
             'horizon': (90, 'samples per reference (the MPC needs Np = 80)', (2, 10000)),
             'dt': (0.02, 'sample period of the references, the MPC Ts (s)', (0.001, 1.0)),
             'rate': (50.0, 'references per second without a controller to answer (Hz)',
                      (0.1, 1000.0)),
             'stance_width': (0.2, 'distance between the standing feet before a walk (m)',
-                             (0.05, 1.0))})
-        self._horizon = max(2, int(self.get_parameter('horizon').value))
-        self._dt = float(self.get_parameter('dt').value)
-        self._session = ReferenceSession(params)
+                             (0.05, 1.0)),
+            'map_frame': ('map', 'frame of plans, sole poses and odometry', None),
+            'max_footstep_distance': (1.0, 'largest distance between consecutive footsteps of '
+                                      'a plan (m)', (0.05, 10.0)),
+            'state_timeout': (0.5, 'walking_state silent this long is reported lost (s)',
+                              (0.05, 60.0))},
+            read_only=('horizon', 'dt', 'rate', 'map_frame', 'state_timeout'))
+        get = lambda name: self.get_parameter(name).value  # noqa: E731
+        self._horizon = max(2, int(get('horizon')))
+        self._dt = float(get('dt'))
+        self._frame = get('map_frame')
+        self._session = ReferenceSession(self._reference_params)
+        self._reject = RejectionLog(self.get_logger().error)
         self._standing = None
         self._phase = None
+        self._epoch = None
+        self._watch = InputWatch(('walking_state',), timeout=float(get('state_timeout')))
+        self._stale = ()
         self._pub = self.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
         # Only needed until a walk's reference exists: then unsubscribed (each message costs a
         # wake-up of this process at every control period).
         self._odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, 10)
-        self._soles_sub = self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
+        self._soles_sub = None
+        self._subscribe_soles()
         self._soles_seen = False
-        self._period_ns = int(round(1e9 / float(self.get_parameter('rate').value)))
+        self._period_ns = int(round(1e9 / float(get('rate'))))
         self._sent_ns = None  # stamp of the newest reference sent
         self.create_subscription(JointState, 'joint_commands', self._on_command, 10)
-        self.create_timer(1.0 / float(self.get_parameter('rate').value), self._on_timer)
+        self.create_timer(1.0 / float(get('rate')), self._on_timer)
+        wall = Clock(clock_type=ClockType.STEADY_TIME)
+        self.create_timer(WATCH_PERIOD, self._check_inputs, clock=wall)
+        self.create_timer(DIAGNOSTICS_PERIOD, self._publish_diagnostics, clock=wall)
         self.get_logger().info(f'reference generator ready ({self._horizon} samples of '
                                f'{self._dt} s)')
 
@@ -72,18 +114,38 @@ class ReferenceGeneratorNode(Node):
         return self.get_clock().now().nanoseconds * 1e-9
 
     def _on_plan(self, msg: FootstepPlan) -> None:
+        if msg.status == FootstepPlan.STATUS_FAILED:
+            return
         if msg.status != FootstepPlan.STATUS_OK:
+            self._reject('footstep_plan', f'plan {msg.plan_id}: unknown status {msg.status}')
             return
         try:
+            if msg.header.frame_id not in ('', self._frame):
+                raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
+            footsteps = footsteps_from_msgs(msg.footsteps)
+            check_footsteps(footsteps, self._bounds.workspace,
+                            self.get_parameter('max_footstep_distance').value)
             timing = StepTiming(msg.single_support, msg.double_support)
-            done = self._session.set_plan(msg.plan_id, footsteps_from_msgs(msg.footsteps),
-                                          timing, self._now())
+            done = self._session.set_plan(msg.plan_id, footsteps, timing, self._now())
         except (BipedPlannerError, ValueError) as error:
-            self.get_logger().error(f'plan {msg.plan_id} not used: {error}')
+            self._reject('footstep_plan', f'plan {msg.plan_id} not used: {error}')
             return
         self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): {done}')
 
     def _on_state(self, msg: WalkingState) -> None:
+        why = walking_state_problem(msg, self._now(), MAX_STAMP_LEAD)
+        if why is not None:
+            self._reject('walking_state', why)
+            return
+        self._watch.arrived('walking_state', self._now(), time.monotonic())
+        if self._epoch is None:
+            self._epoch = msg.epoch
+        elif msg.epoch != self._epoch:
+            if self._phase in WALKING_PHASES:
+                self._reject('walking_state', f'epoch {msg.epoch} while walking (a reset is '
+                             f'refused while walking)')
+                return
+            self._restart(msg.epoch)
         if msg.phase in WALKING_PHASES:
             if self._session.start_walk(msg.walk_start_time) and self._phase not in \
                     WALKING_PHASES:
@@ -93,6 +155,21 @@ class ReferenceGeneratorNode(Node):
             self._session.end_walk()
         self._phase = msg.phase
 
+    def _restart(self, epoch: int) -> None:
+        """The robot was reset: no walk, no plan, stand where the controller puts the feet."""
+        self._epoch = epoch
+        self._session = ReferenceSession(self._reference_params)
+        self._standing = None
+        self._soles_seen = False
+        self._subscribe_soles()
+        self.get_logger().info(f'epoch {epoch}: walk and plan dropped; standing where the '
+                               f'sole_poses put the feet')
+
+    def _subscribe_soles(self) -> None:
+        if self._soles_sub is None:
+            self._soles_sub = self.create_subscription(PoseArray, 'sole_poses', self._on_soles,
+                                                       10)
+
     def _on_soles(self, msg: PoseArray) -> None:
         """Stand where the feet are: standing on feet placed around the pelvis instead would
         make the COM chase its own reference (the COM is not above the pelvis)."""
@@ -100,24 +177,28 @@ class ReferenceGeneratorNode(Node):
             self._unsubscribe_standing_inputs()
             return
         try:
-            self._standing = feet_from_sole_poses(msg)
+            if msg.header.frame_id != self._frame:
+                raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
+            self._standing = feet_from_sole_poses(msg, self._bounds)
             self._soles_seen = True
-        except ValueError as error:
-            self.get_logger().warning(f'sole_poses ignored: {error}', throttle_duration_sec=5.0)
+        except (BipedPlannerError, ValueError) as error:
+            self._reject('sole_poses', error)
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._session.reference is not None or self._soles_seen:
             self._unsubscribe_standing_inputs()
             return
         try:
-            self._standing = feet_beside(pose2d_from_pose(msg.pose.pose),
-                                         self.get_parameter('stance_width').value)
-        except BipedPlannerError:
-            pass
+            if msg.header.frame_id != self._frame:
+                raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
+            pose = checked_pose2d('odom', msg.pose.pose, self._bounds)
+            self._standing = feet_beside(pose, self.get_parameter('stance_width').value)
+        except (BipedPlannerError, ValueError) as error:
+            self._reject('odom', error)
 
     def _unsubscribe_standing_inputs(self) -> None:
-        """odom is read until sole_poses arrive, both until a walk's reference exists (it is
-        never dropped again)."""
+        """odom is read until sole_poses arrive, sole_poses until a walk's reference exists
+        (and again after a reset)."""
         if self._odom_sub is not None:
             self.destroy_subscription(self._odom_sub)
             self._odom_sub = None
@@ -127,17 +208,29 @@ class ReferenceGeneratorNode(Node):
 
     def _send(self, t_ns: int) -> None:
         """Publish the reference from t_ns (ns of the node's clock), if there is one."""
-        window = self._session.window(t_ns * 1e-9, self._horizon, self._dt, self._standing)
+        try:
+            window = self._session.window(t_ns * 1e-9, self._horizon, self._dt, self._standing)
+        except (BipedPlannerError, ValueError) as error:
+            self.get_logger().error(f'no reference at t={t_ns * 1e-9:.3f} s: {error}',
+                                    throttle_duration_sec=2.0)
+            return
         if window is not None:
-            self._pub.publish(reference_trajectory_msg(window, self._session.plan_id, self._dt,
-                                                       Time(nanoseconds=t_ns).to_msg()))
+            msg = reference_trajectory_msg(window, self._session.plan_id, self._dt,
+                                           Time(nanoseconds=t_ns).to_msg())
+            msg.header.frame_id = self._frame
+            self._pub.publish(msg)
             self._sent_ns = t_ns
 
     def _on_command(self, msg: JointState) -> None:
-        if not self.get_clock().ros_time_is_active:
+        clock = self.get_clock()
+        if not clock.ros_time_is_active:
             return
         stamp = msg.header.stamp
         t_ns = stamp.sec * 1_000_000_000 + stamp.nanosec + self._period_ns
+        if t_ns > clock.now().nanoseconds + int(MAX_STAMP_LEAD * 1e9):
+            self._reject('joint_commands', f'stamp {stamp.sec}.{stamp.nanosec:09d} s is ahead '
+                         f'of the clock')
+            return
         if self._sent_ns is None or t_ns > self._sent_ns:
             self._send(t_ns)
 
@@ -149,6 +242,32 @@ class ReferenceGeneratorNode(Node):
             now_ns - self._period_ns // 2 <= self._sent_ns <= now_ns + 2 * self._period_ns
         if not sent_ahead:
             self._send(now_ns)
+
+    def _check_inputs(self) -> None:
+        stale = self._watch.check(self._now(), time.monotonic())
+        if stale != self._stale:
+            if stale:
+                self.get_logger().error(f'{", ".join(stale)} lost (none for '
+                                        f'{self._watch.timeout} s): the state machine is gone; '
+                                        'the walk runs to the end of its plan and stands')
+            else:
+                self.get_logger().info(f'{", ".join(self._stale)} back')
+            self._stale = stale
+            self._publish_diagnostics()
+
+    def _publish_diagnostics(self) -> None:
+        if self._stale:
+            level = DiagnosticStatus.ERROR
+            message = f'{", ".join(self._stale)} lost: no message for {self._watch.timeout} s'
+        else:
+            level, message = DiagnosticStatus.OK, 'inputs arrive'
+        status = DiagnosticStatus(level=level, name='reference_generator: walking_state',
+                                  message=message, hardware_id=self.get_name(),
+                                  values=[KeyValue(key='stale_inputs',
+                                                   value=','.join(self._stale))])
+        msg = DiagnosticArray(status=[status])
+        msg.header.stamp = self.get_clock().now().to_msg()
+        self._diagnostics_pub.publish(msg)
 
 
 def main(args=None) -> None:

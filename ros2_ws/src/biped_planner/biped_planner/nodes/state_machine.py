@@ -1,30 +1,63 @@
-"""The walking state machine node: walk commands and plans in, walking state out.
+"""The walking state machine node: the one entry point of user intent, and the walking state.
 
-Subscribes: walk_command (biped_msgs/WalkCommand), footstep_plan (biped_msgs/FootstepPlan,
-transient local), odom (nav_msgs/Odometry, for fall detection), cmd_vel (geometry_msgs/Twist)
-and goal_pose (geometry_msgs/PoseStamped), which start a walk from Idle.
-Publishes: walking_state (biped_msgs/WalkingState) on every transition and at publish_rate,
-walk_command_status (biped_msgs/CommandStatus) for every command received.
+Subscribes (user intent: no other node subscribes to these): walk_command
+(biped_msgs/WalkCommand), goal_pose (geometry_msgs/PoseStamped in the map frame) and cmd_vel
+(geometry_msgs/Twist). Each message is checked and answered on walk_command_status
+(biped_msgs/CommandStatus; a goal_pose is answered as GOTO, a cmd_vel as OMNI); an accepted one
+is forwarded to the footstep planner over the service plan_walk (biped_msgs/PlanWalk) with a
+fresh request id, and a walk starts only on the footstep_plan whose request_id is that
+request's (biped_planner.plan_requests). With no planner running, START, OMNI and cmd_vel walk
+in place. A walk driven by cmd_vel stops (finishing its step) when cmd_vel has been silent for
+cmd_vel_timeout.
+Also subscribes: footstep_plan (transient local), odom (nav_msgs/Odometry: fall detection),
+reference_trajectory and controller_diagnostics (only their arrival is kept): an input that
+stops is named in walking_state.stale_inputs (biped_planner.input_watch); losing the references
+or the controller ends a walk.
+Service: reset (std_srvs/Trigger): from Idle or Fallen, resets the simulator (its service
+simulator/reset, when one exists) and starts a new epoch in Idle; refused while walking.
+Publishes: walking_state (biped_msgs/WalkingState) on every transition, when the stale inputs
+change and at publish_rate; walk_command_status.
 """
-import math
+from functools import partial
+import time
 
-from biped_msgs.msg import CommandStatus, FootstepPlan, WalkCommand as WalkCommandMsg, WalkingState
+from biped_msgs.msg import CommandStatus, ControllerDiagnostics, FootstepPlan, \
+    ReferenceTrajectory, WalkCommand as WalkCommandMsg, WalkingState
+from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from std_srvs.srv import Trigger
 
-from biped_planner.errors import CommandError
+from biped_planner.errors import BipedPlannerError, CommandError
 from biped_planner.fall_detector import detect_fall, FallDetectorParams
+from biped_planner.input_watch import InputWatch
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
-from biped_planner.nodes.conversions import (command_status_msg, walk_command_from_msg,
+from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.node_support.side_call import SideCall
+from biped_planner.nodes.conversions import (command_status_msg, goal_command_from_msg,
+                                             plan_walk_request, received_plan,
+                                             velocity_from_twist, walk_command_from_msg,
                                              walking_state_msg)
-from biped_planner.sides import SIDES
+from biped_planner.plan_requests import (PlanRequests, PlanUse, RequestKind,
+                                         walk_request_refusal)
+from biped_planner.pose_checks import PoseBounds, PoseStream
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
                                                  WALKING_PHASES, WalkingStateMachine)
+
+PLAN = 'footstep_plan'
+STREAMS = ('odom', 'reference_trajectory', 'controller_diagnostics')
+WALK_PRODUCERS = ('reference_trajectory', 'controller_diagnostics')  # their loss ends a walk
+KNOWN_COMMANDS = {int(kind) for kind in CommandKind}
+RESET_SETTLE = 0.5  # s: fallen odometry this soon after a reset predates it
+# planner errors that say the request itself was wrong (the rest: not possible now)
+INVALID_REQUEST_ERRORS = {FootstepPlan.ERROR_INVALID_COMMAND, FootstepPlan.ERROR_UNKNOWN_FRAME,
+                          FootstepPlan.ERROR_GOAL_OUTSIDE_MAP, FootstepPlan.ERROR_GOAL_OCCUPIED}
 
 
 class StateMachineNode(Node):
@@ -41,45 +74,92 @@ class StateMachineNode(Node):
         self._limits = declare_dataclass_parameters(
             self, CommandLimits(), {}, prefix='limits.',
             on_change=lambda p: setattr(self, '_limits', p))
+        self._bounds = declare_dataclass_parameters(
+            self, PoseBounds(), {}, prefix='pose_bounds.',
+            on_change=lambda p: setattr(self, '_bounds', p))
         declare_node_parameters(self, {
             'publish_rate': (50.0, 'walking_state messages per second besides transitions (Hz)',
                              (0.1, 1000.0)),
             'update_rate': (200.0, 'timer checking phase ends (Hz)', (1.0, 10000.0)),
             'fall_detection': (True, 'detect and report falls', None),
-            # A teleop plan is republished every step; silence this long: the planner is gone.
-            'plan_timeout': (2.0, 'a teleop plan silent this long ends the walk (s)',
-                             (0.1, 60.0))})
+            'map_frame': ('map', 'the frame of goals (goal_pose, GOTO)', None),
+            'odom_frame': ('map', 'the frame of odom (the simulator\'s frame_id)', None),
+            'cmd_vel_timeout': (0.5, 'a walk driven by cmd_vel stops when no cmd_vel came for '
+                                'this long, on the clock and in wall time (s)', (0.05, 60.0)),
+            'input_timeout': (0.5, 'an input silent this long, on the clock and in wall time, '
+                              'is reported in stale_inputs (s)', (0.05, 60.0)),
+            'planner_timeout': (2.0, 'wall time within which plan_walk must answer (s)',
+                                (0.1, 60.0)),
+            'reset_timeout': (5.0, 'wall time within which simulator/reset must answer (s)',
+                              (0.1, 60.0)),
+            'max_stamp_ahead': (0.2, 'odom stamped this far ahead of the clock is refused (s)',
+                                (0.0, 10.0))},
+            read_only=('publish_rate', 'update_rate', 'map_frame', 'odom_frame'))
+        self._reject = RejectionLog(self.get_logger().warning)
+        self._map_frame = self.get_parameter('map_frame').value
 
         self._machine = WalkingStateMachine(params)
-        self._plan_id = 0
-        self._continuous_plan = None  # (arrival time, steps in it) of a teleop plan
-        self._stale = False
-        # A start waits for its plan when a planner runs: Initialize shifts the COM to the first
-        # support foot, which the plan names, and the walk's references start with the plan.
-        self._start_pending = None  # clock time of the start request
-        self._unwalked_plan = None  # plan_id of an OK plan no walk has started on yet
+        self._plan = None     # biped_planner.plan_requests.ReceivedPlan the walk follows
+        self._plan_id = 0     # the plan of the current or last walk (0: none)
+        self._plan_step = 0   # the step being taken when the walk's plan last arrived
+        self._requests = PlanRequests(self.get_parameter('planner_timeout').value)
+        self._unsent = {}     # request id -> content, until plan_walk is discovered
+        sim_time = self.get_parameter('use_sim_time').value
+        self._watch = InputWatch(STREAMS, (PLAN,), self.get_parameter('input_timeout').value,
+                                 '/clock' if sim_time else None, ('odom',))
+        self._stale = ()
+        self._velocity_walk = False  # the walk follows cmd_vel: it times out
+        self._last_cmd_vel = None    # (clock, wall) time of the last valid cmd_vel
+        self._odometry = PoseStream('odom', self.get_parameter('odom_frame').value)
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
         self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
         self.create_subscription(WalkCommandMsg, 'walk_command', self._on_command, 10)
-        self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
-        self.create_subscription(Odometry, 'odom', self._on_odometry, 10)
-        self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
         self.create_subscription(PoseStamped, 'goal_pose', self._on_goal, 10)
+        self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
+        self.create_subscription(FootstepPlan, PLAN, self._on_plan, LATCHED_IN)
+        self.create_subscription(Odometry, 'odom', self._on_odometry, 10)
+        for msg_type, name in ((ReferenceTrajectory, 'reference_trajectory'),
+                               (ControllerDiagnostics, 'controller_diagnostics')):
+            self.create_subscription(msg_type, name, partial(self._on_stream, name), 10,
+                                     raw=True)
+        self._planner = self.create_client(PlanWalk, 'plan_walk')
+        self._simulator_reset = SideCall(self, Trigger, 'simulator/reset')
+        self.create_service(Trigger, 'reset', self._on_reset)
         update_period = 1.0 / max(1.0, self.get_parameter('update_rate').value)
         self._publish_period = 1.0 / max(0.1, self.get_parameter('publish_rate').value)
         self._last_publish = None
         self.create_timer(update_period, self._on_update)
+        # Wall time: timeouts must fire when the simulated clock stands still.
+        self.create_timer(0.05, self._on_watch, clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info('walking state machine ready (Idle)')
+
+    def destroy_node(self) -> None:
+        self._simulator_reset.destroy()
+        super().destroy_node()
+
+    @property
+    def phase(self) -> Phase:
+        return self._machine.status.phase
+
+    def planner_available(self) -> bool:
+        """Whether a footstep planner runs (else walks go in place): its service is known, or
+        the planner is (discovery can show its node and plan before its service)."""
+        return self._planner.service_is_ready() or self.count_publishers(PLAN) > 0 or \
+            'footstep_planner' in self.get_node_names()
 
     def _now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
 
+    def _walking(self) -> bool:
+        return self.phase in WALKING_PHASES
+
     def _on_timing_change(self, params: StateMachineParams) -> None:
         self._machine.set_timing(params.single_support, params.double_support)
 
+    # --- publishing -------------------------------------------------------------------------
     def _publish(self, status, now: float) -> None:
         self._state_pub.publish(walking_state_msg(
-            status, now, self.get_clock().now().to_msg(), self._plan_id, inputs_stale=self._stale))
+            status, now, self.get_clock().now().to_msg(), self._plan_id, self._stale))
         self._last_publish = now
 
     def _publish_transitions(self, transitions, now: float) -> None:
@@ -87,144 +167,317 @@ class StateMachineNode(Node):
             self.get_logger().info(
                 f'{status.phase.name} (step {status.step_index}, support '
                 f'{status.support.name}): {status.reason}')
+            if status.phase == Phase.SINGLE_SUPPORT and self._plan is not None and \
+                    self._plan.continuous and status.step_index > self._plan_step:
+                self._watch.due(PLAN, now, time.monotonic())  # the planner extends every step
+            elif status.phase in (Phase.IDLE, Phase.FALLEN):
+                self._watch.withdraw(PLAN)
+                self._velocity_walk = False
+                self._plan = None
             self._publish(status, now)
 
     def _answer(self, command: int, error_code: int, error_msg: str = '') -> None:
         if error_code != CommandStatus.OK:
-            self.get_logger().warning(f'walk command {command} rejected: {error_msg}')
+            self._reject(f'command {command}', error_msg)
         self._status_pub.publish(command_status_msg(
             self.get_name(), command, error_code, error_msg, self.get_clock().now().to_msg()))
 
+    # --- user intent ------------------------------------------------------------------------
     def _on_command(self, msg: WalkCommandMsg) -> None:
         now = self._now()
         try:
-            command = walk_command_from_msg(msg, self._limits)
+            command = walk_command_from_msg(msg, self._limits, self._map_frame)
         except CommandError as error:
-            unknown = msg.command not in {k.value for k in CommandKind}
-            self._answer(msg.command, CommandStatus.UNKNOWN_COMMAND if unknown
-                         else CommandStatus.INVALID_VALUE, str(error))
+            self._answer(msg.command, CommandStatus.INVALID_VALUE if msg.command in
+                         KNOWN_COMMANDS else CommandStatus.UNKNOWN_COMMAND, str(error))
             return
-        try:
-            transitions = self._machine.update(now)
-            if command.step_time > 0.0:
-                self._machine.set_step_time(command.step_time)
-            if command.kind == CommandKind.STOP:
-                transitions += self._machine.request_stop(now)
-            elif command.kind == CommandKind.RESET:
-                transitions += self._machine.reset(now)
-            else:
-                if command.kind == CommandKind.START and self._unwalked_plan is None:
-                    # START walks in place (or along a plan that arrives): no step limit.
-                    self._machine.set_plan(None)
-                transitions += self._request_start(now)
-        except CommandError as error:
-            self._answer(msg.command, CommandStatus.NOT_ALLOWED, str(error))
-            return
-        self._publish_transitions(transitions, now)
-        self._answer(msg.command, CommandStatus.OK)
-
-    def _on_plan(self, msg: FootstepPlan) -> None:
-        now = self._now()
-        transitions = self._machine.update(now)
-        if msg.status != FootstepPlan.STATUS_OK:
-            if self._start_pending is not None:
-                self.get_logger().warning(f'plan failed ({msg.error_code}): {msg.error_msg}; '
-                                          'not starting')
-                self._start_pending = None
-            # Only a walk still waiting for its plan stops; a running walk keeps its plan.
-            if self._machine.status.phase == Phase.INITIALIZE:
-                self.get_logger().warning(f'plan failed ({msg.error_code}): {msg.error_msg}; '
-                                          'back to Idle')
-                transitions += self._machine.request_stop(now)
+        self._publish_transitions(self._machine.update(now), now)
+        kind = command.kind
+        if kind == CommandKind.RESET:
+            ok, text = self._reset_all()
+            self._answer(kind, CommandStatus.OK if ok else CommandStatus.NOT_ALLOWED,
+                         '' if ok else text)
+        elif kind == CommandKind.STOP:
+            self._publish_transitions(self._stop(now, 'stop requested', msg), now)
+            self._answer(kind, CommandStatus.OK)
         else:
-            if msg.plan_id != self._plan_id and self._machine.status.phase == Phase.IDLE:
-                self._unwalked_plan = msg.plan_id
-            self._plan_id = msg.plan_id
-            steps = None if msg.continuous else max(0, len(msg.footsteps) - 2)
-            self._continuous_plan = (now, max(0, len(msg.footsteps) - 2)) if msg.continuous \
-                else None
-            self._stale = False
-            first = Support(msg.footsteps[0].side) if msg.footsteps and \
-                msg.footsteps[0].side in SIDES else None
-            try:
-                self._machine.set_plan(steps, first, planned=True)
-                if msg.single_support > 0.0 and msg.double_support > 0.0:
-                    self._machine.set_timing(msg.single_support, msg.double_support)
-            except CommandError as error:
-                self.get_logger().warning(f'plan {msg.plan_id} ignored: {error}')
-            if self._start_pending is not None:
-                self._start_pending = None
-                transitions += self._start_walk(now)
-        self._publish_transitions(transitions, now)
+            if command.step_time > 0.0:
+                try:
+                    self._machine.set_step_time(command.step_time)
+                except CommandError as error:
+                    self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
+                    return
+            self._request_walk(now, kind, RequestKind.COMMAND, command=msg)
 
     def _on_goal(self, msg: PoseStamped) -> None:
-        """A goal pose (the RViz convention) starts a walk; the planner plans it, and a failed
-        plan sends the walk back to Idle during Initialize."""
-        p = msg.pose.position
-        if all(math.isfinite(v) for v in (p.x, p.y)):
-            self._start_from_idle()
+        """A goal pose (the RViz convention) starts a walk to it, once the planner's plan for
+        it arrives."""
+        try:
+            goal_command_from_msg(msg, self._map_frame, self._limits)
+        except CommandError as error:
+            self._answer(CommandKind.GOTO, CommandStatus.INVALID_VALUE, f'goal_pose: {error}')
+            return
+        self._request_walk(self._now(), CommandKind.GOTO, RequestKind.GOAL, goal=msg)
 
     def _on_cmd_vel(self, msg: Twist) -> None:
-        """Teleop: a velocity command starts a walk from Idle (the planner makes the steps)."""
-        if all(math.isfinite(v) for v in (msg.linear.x, msg.linear.y, msg.angular.z)):
-            self._start_from_idle()
+        """Teleop: a velocity command starts or steers a walk (the planner makes the steps)."""
+        try:
+            velocity_from_twist(msg, self._limits)
+        except CommandError as error:
+            self._answer(CommandKind.OMNI, CommandStatus.INVALID_VALUE, str(error))
+            return
+        now = self._now()
+        self._last_cmd_vel = (now, time.monotonic())
+        self._request_walk(now, CommandKind.OMNI, RequestKind.VELOCITY, velocity=msg)
 
-    def _start_from_idle(self) -> None:
-        if self._machine.status.phase == Phase.IDLE:
-            now = self._now()
-            self._publish_transitions(self._request_start(now), now)
+    def _request_walk(self, now: float, user_command: int, kind: RequestKind, **content) -> None:
+        """Start or steer a walk: through the planner when one runs, else in place."""
+        walking = self._walking()
+        planner = self.planner_available()
+        refusal = walk_request_refusal(
+            self.phase, planner, user_command == CommandKind.GOTO,
+            self._plan is not None and self._plan.continuous,
+            self._machine.status.stop_requested)
+        if refusal is not None:
+            self._answer(user_command, CommandStatus.NOT_ALLOWED, refusal)
+            return
+        if not planner:
+            if not walking:
+                self._machine.set_plan(None)  # in place, until stopped
+                self._plan_id, self._plan = 0, None
+            self._publish_transitions(self._machine.request_start(now), now)
+            self._velocity_walk = kind == RequestKind.VELOCITY
+            self._answer(user_command, CommandStatus.OK)
+            return
+        request, superseded = self._requests.new(kind, user_command, not walking, True,
+                                                 time.monotonic())
+        if superseded is not None and superseded.answer_owed:
+            self._answer(superseded.command, CommandStatus.NOT_ALLOWED,
+                         f'superseded by request {request.request_id} before its plan arrived')
+        self._call_planner(request, **content)
 
-    def _request_start(self, now: float):
-        """Start now when there is no planner or its plan is in; else when the plan arrives."""
-        planner_runs = self.count_publishers('footstep_plan') > 0
-        if self._machine.status.phase != Phase.IDLE or not planner_runs or \
-                self._unwalked_plan is not None:
-            self._start_pending = None
-            return self._start_walk(now)
-        if self._start_pending is None:
-            self.get_logger().info('start requested: waiting for the footstep plan')
-        self._start_pending = now
-        return []
+    def _call_planner(self, request, **content) -> None:
+        """Send now, or once the service is discovered (within planner_timeout)."""
+        if not self._planner.service_is_ready():
+            self._unsent[request.request_id] = content
+            return
+        future = self._planner.call_async(plan_walk_request(request.request_id, request.kind,
+                                                            **content))
+        future.add_done_callback(partial(self._on_planner_answer, request.request_id))
 
-    def _start_walk(self, now: float):
-        transitions = self._machine.request_start(now)
-        if transitions:
-            self._unwalked_plan = None
+    def _on_planner_answer(self, request_id: int, future) -> None:
+        now = self._now()
+        result = future.result() if future.done() and future.exception() is None else None
+        if result is None or not result.accepted:
+            request = self._requests.refused(request_id)
+            if request is not None:
+                code = result.error_code if result is not None else None
+                text = result.error_msg if result is not None else 'the call failed'
+                self._planner_refused(request, code, text, now)
+            return
+        request = self._requests.accepted(request_id, result.plan_id)
+        if request is None or request.starts_walk:
+            return  # answered by its plan already, or still waiting for it
+        if request.kind in (RequestKind.COMMAND, RequestKind.VELOCITY) and \
+                request.command != CommandKind.STOP:
+            self._velocity_walk = request.kind == RequestKind.VELOCITY
+        if request.answer_owed:
+            self._answer(request.command, CommandStatus.OK)
+
+    def _planner_refused(self, request, code, text: str, now: float) -> None:
+        """A request the planner refused, failed or did not answer in time."""
+        if request.kind == RequestKind.CANCEL or request.command == CommandKind.STOP:
+            self.get_logger().error(f'the planner did not end its plan ({text}): ending the '
+                                    'walk after the current step')
+            self._publish_transitions(self._machine.request_stop(
+                now, 'stop without the planner', unplanned=True), now)
+        if request.answer_owed:
+            status = CommandStatus.INVALID_VALUE if code in INVALID_REQUEST_ERRORS else \
+                CommandStatus.NOT_ALLOWED
+            self._answer(request.command, status, f'planner (request {request.request_id}): '
+                         f'{text}' + (f' (FootstepPlan error {code})' if code else ''))
+
+    def _stop(self, now: float, reason: str, command: WalkCommandMsg = None):
+        """End the walk after the current step and a closing one (the planner's stop plan);
+        a walk waiting for its plan does not start.
+
+        :return: the transitions
+        """
+        cancelled = self._requests.cancel_start()
+        if cancelled is not None and cancelled.answer_owed:
+            self._answer(cancelled.command, CommandStatus.NOT_ALLOWED, f'cancelled: {reason}')
+        self._velocity_walk = False
+        walking = self._walking()
+        planner = self.planner_available()
+        transitions = self._machine.request_stop(
+            now, reason, unplanned=walking and self._plan is not None and not planner)
+        if planner and (walking or cancelled is not None):
+            request, _ = self._requests.new(
+                RequestKind.COMMAND if command is not None else RequestKind.CANCEL,
+                CommandKind.STOP, False, False, time.monotonic())
+            self._call_planner(request, command=command)
         return transitions
 
+    # --- plans ------------------------------------------------------------------------------
+    def _on_plan(self, msg: FootstepPlan) -> None:
+        now = self._now()
+        try:
+            plan = received_plan(msg)
+        except BipedPlannerError as error:
+            self._reject(PLAN, error)
+            return
+        self._publish_transitions(self._machine.update(now), now)
+        use, request = self._requests.use_of_plan(plan.request_id, plan.plan_id, plan.ok,
+                                                  self._walking(), self._plan_id)
+        if use == PlanUse.IGNORE:
+            self.get_logger().info(f'plan {plan.plan_id} (request {plan.request_id}) not '
+                                   'walked: it answers no pending start and is not the walk\'s',
+                                   throttle_duration_sec=2.0)
+            return
+        if use == PlanUse.FAILED:
+            self._planner_refused(request, plan.error_code, plan.error_msg, now)
+            return
+        self._watch.arrived(PLAN, now, time.monotonic())
+        try:
+            self._machine.set_timing(plan.single_support, plan.double_support)
+            self._machine.set_plan(None if plan.continuous else plan.steps,
+                                   None if plan.first_support is None else
+                                   Support(plan.first_support), planned=True)
+            transitions = self._machine.request_start(now) if use == PlanUse.START else []
+        except CommandError as error:
+            self._reject(PLAN, f'plan {plan.plan_id} not used: {error}')
+            if request is not None and request.answer_owed:
+                self._answer(request.command, CommandStatus.NOT_ALLOWED, str(error))
+            return
+        self._plan, self._plan_id = plan, plan.plan_id
+        self._plan_step = self._machine.status.step_index
+        if use == PlanUse.START:
+            self._velocity_walk = request.kind == RequestKind.VELOCITY
+            if request.answer_owed:
+                self._answer(request.command, CommandStatus.OK)
+        self._publish_transitions(transitions, now)
+
+    # --- sensors and other inputs -----------------------------------------------------------
+    def _on_stream(self, name: str, _raw) -> None:
+        self._watch.arrived(name, self._now(), time.monotonic())
+
     def _on_odometry(self, msg: Odometry) -> None:
+        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        now = self._now()
+        try:
+            self._odometry.check(msg.header.frame_id, stamp, (p.x, p.y, p.z),
+                                 (q.x, q.y, q.z, q.w), now, self._bounds,
+                                 self.get_parameter('max_stamp_ahead').value)
+        except BipedPlannerError as error:
+            self._reject('odom', error)
+            return
+        self._watch.arrived('odom', now, time.monotonic())
         if not self.get_parameter('fall_detection').value:
             return
-        q = msg.pose.pose.orientation
-        reason = detect_fall(msg.pose.pose.position.z, (q.x, q.y, q.z, q.w), self._fall_params)
+        reason = detect_fall(p.z, (q.x, q.y, q.z, q.w), self._fall_params)
+        if reason is None:
+            self._odometry.reset_stamp = None  # standing since the reset: the odometry is new
+        elif self._odometry.since_reset(stamp) <= RESET_SETTLE:
+            return  # fallen just after a reset: measured before it (this clock may lag)
         if reason is not None:
-            now = self._now()
+            self._requests.cancel_start()
             self._publish_transitions(self._machine.report_fall(now, reason), now)
 
-    def _check_plan_alive(self, now: float) -> None:
-        """End a teleop walk where its last plan ends when the planner falls silent."""
-        if self._continuous_plan is None or self.phase not in WALKING_PHASES:
-            return
-        arrived, steps = self._continuous_plan
-        if now - arrived > self.get_parameter('plan_timeout').value:
-            self.get_logger().error(f'no footstep plan for {now - arrived:.1f} s: the planner is '
-                                    f'silent; ending the walk after step {steps}')
-            self._machine.set_plan(steps, planned=True)
-            self._continuous_plan = None
-            self._stale = True
+    # --- reset ------------------------------------------------------------------------------
+    def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
+        response.success, response.message = self._reset_all()
+        return response
 
+    def _reset_all(self):
+        """Reset the simulator (if any) and start a new epoch in Idle.
+
+        :return: (success, message)
+        """
+        if self._walking():
+            text = f'cannot reset while walking ({self.phase.name}): send STOP and wait for IDLE'
+            self.get_logger().warning(text, throttle_duration_sec=1.0)
+            return False, text
+        simulator = 'no simulator/reset service: only the walking stack was reset'
+        if self._simulator_reset.ready():
+            timeout = self.get_parameter('reset_timeout').value
+            result = self._simulator_reset.call(Trigger.Request(), timeout)
+            if result is None or not result.success:
+                text = f'simulator/reset failed: {result.message}' if result is not None else \
+                    f'simulator/reset did not answer within {timeout} s'
+                self.get_logger().error(text)
+                return False, text
+            simulator = f'simulator: {result.message}'
+        now = self._now()
+        self._odometry.reset(now)
+        cancelled = self._requests.cancel_start()
+        if cancelled is not None and cancelled.answer_owed:
+            self._answer(cancelled.command, CommandStatus.NOT_ALLOWED, 'cancelled by a reset')
+        if self.planner_available():
+            request, _ = self._requests.new(RequestKind.CANCEL, CommandKind.RESET, False, False,
+                                            time.monotonic())
+            self._call_planner(request)
+        transitions = self._machine.reset(now)
+        self._plan_id, self._plan, self._velocity_walk = 0, None, False
+        self._publish_transitions(transitions, now)
+        text = f'reset: epoch {self._machine.status.epoch}, IDLE ({simulator})'
+        self.get_logger().info(text)
+        return True, text
+
+    # --- timers -----------------------------------------------------------------------------
     def _on_update(self) -> None:
         now = self._now()
-        self._check_plan_alive(now)
         transitions = self._machine.update(now)
         self._publish_transitions(transitions, now)
         if not transitions and (self._last_publish is None or now < self._last_publish or
                                 now - self._last_publish >= self._publish_period):
             self._publish(self._machine.status, now)
 
-    @property
-    def phase(self) -> Phase:
-        return self._machine.status.phase
+    def _on_watch(self) -> None:
+        """Wall-time checks: planner answers, the cmd_vel timeout, inputs that stopped."""
+        now, wall = self._now(), time.monotonic()
+        self._requests.timeout = self.get_parameter('planner_timeout').value
+        for request in self._requests.expired(wall):
+            self._unsent.pop(request.request_id, None)
+            self._planner_refused(request, None, 'no answer from plan_walk within '
+                                  f'{self._requests.timeout} s', now)
+        if self._unsent and self._planner.service_is_ready():
+            for request_id, content in list(self._unsent.items()):
+                del self._unsent[request_id]
+                request = self._requests.get(request_id)
+                if request is not None:  # else cancelled meanwhile
+                    self._call_planner(request, **content)
+        timeout = self.get_parameter('cmd_vel_timeout').value
+        if self._velocity_walk and self._walking() and self._last_cmd_vel is not None and \
+                min(now - self._last_cmd_vel[0], wall - self._last_cmd_vel[1]) > timeout:
+            self.get_logger().info(f'no cmd_vel for {timeout} s: stopping')
+            self._publish_transitions(self._stop(now, f'cmd_vel timeout ({timeout} s)'), now)
+        self._watch.timeout = self.get_parameter('input_timeout').value
+        self._watch.clock(now, wall)
+        stale = self._watch.check(now, wall)
+        if stale != self._stale:
+            self._on_stale_change(stale, now)
+
+    def _on_stale_change(self, stale, now: float) -> None:
+        lost = [name for name in stale if name not in self._stale]
+        back = [name for name in self._stale if name not in stale]
+        self._stale = stale
+        if lost:
+            self.get_logger().error(f'inputs stopped: {", ".join(lost)} (silent for '
+                                    f'{self._watch.timeout} s)', throttle_duration_sec=1.0)
+        if back:
+            self.get_logger().info(f'inputs back: {", ".join(back)}')
+        transitions = []
+        if PLAN in lost and self._walking() and self._plan is not None:
+            self.get_logger().error(f'the planner stopped extending plan {self._plan_id}: '
+                                    f'ending the walk after its step {self._plan.steps}')
+            self._machine.set_plan(self._plan.steps, planned=True)
+        ended = [name for name in lost if name in WALK_PRODUCERS]
+        if ended and self._walking():
+            transitions = self._stop(now, f'{", ".join(ended)} lost: ending the walk')
+        self._publish_transitions(transitions, now)
+        if not transitions:
+            self._publish(self._machine.status, now)
 
 
 def main(args=None) -> None:

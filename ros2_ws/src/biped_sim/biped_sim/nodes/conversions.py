@@ -1,11 +1,18 @@
 """Conversions between simulator readings and ROS messages (the only message imports of
 biped_sim besides its nodes)."""
+import math
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PointStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import Imu, JointState
 
-from biped_planner.rotations import quaternion_to_matrix
+from biped_planner.rotations import quaternion_to_matrix, yaw_of_quaternion
+from biped_sim.joint_limits import check_setpoints
+
+MAX_MAP_RESOLUTION = 100.0  # m per cell
+MAX_MAP_ORIGIN = 1e5  # m
 
 
 def joint_state_msg(joints, stamp) -> JointState:
@@ -91,3 +98,75 @@ def setpoints_from_joint_state(msg: JointState, names: tuple, current: np.ndarra
     setpoints = np.array(current, dtype=float)
     setpoints[[index[name] for name in msg.name]] = values
     return setpoints
+
+
+def checked_command(msg: JointState, names: tuple, current: np.ndarray, limits: tuple,
+                    margin: float, max_velocity: float) -> tuple:
+    """The setpoints and feed-forward speeds of a joint command, checked.
+
+    :param names: the simulator's joint order
+    :param current: setpoints kept for the joints the message does not name
+    :param limits: (lower, upper) position limits in that order (rad)
+    :param margin: how far past a limit a setpoint may be (rad)
+    :param max_velocity: largest feed-forward speed (rad/s)
+    :return: (setpoints, velocities), both in the simulator's order
+    :raises ValueError: for no joint, unknown joints, mismatched lengths, values that are not
+        finite, setpoints past the limits or speeds above max_velocity
+    """
+    if not msg.name:
+        raise ValueError('it names no joint')
+    setpoints = setpoints_from_joint_state(msg, names, current)
+    check_setpoints(names, setpoints, *limits, margin)
+    velocities = np.zeros(len(names))
+    if len(msg.velocity) and len(msg.velocity) != len(msg.name):
+        raise ValueError(f'{len(msg.name)} names but {len(msg.velocity)} velocities')
+    if len(msg.velocity):
+        velocities = setpoints_from_joint_state(
+            JointState(name=msg.name, position=msg.velocity), names, velocities)
+        fastest = float(np.max(np.abs(velocities)))
+        if fastest > max_velocity:
+            raise ValueError(f'a joint speed of {fastest:.4g} rad/s (> {max_velocity})')
+    return setpoints, velocities
+
+
+def occupied_cells_from_map(msg, frame_id: str):
+    """The occupied cells of a nav_msgs/OccupancyGrid, checked.
+
+    :param frame_id: the frame the map must be in
+    :return: ((rows, cols) bool array of cells >= 50, resolution (m), origin (x, y) (m))
+    :raises ValueError: naming what is malformed: frame, resolution, origin (not finite, rotated
+        or not a unit quaternion), data size or cell values outside [-1, 100]
+    """
+    info = msg.info
+    if msg.header.frame_id != frame_id:
+        raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {frame_id!r}')
+    if not (math.isfinite(info.resolution) and 0.0 < info.resolution <= MAX_MAP_RESOLUTION):
+        raise ValueError(f'resolution {info.resolution!r} must be in (0, {MAX_MAP_RESOLUTION}] m')
+    p, q = info.origin.position, info.origin.orientation
+    origin = (p.x, p.y, p.z)
+    if not all(math.isfinite(v) and abs(v) <= MAX_MAP_ORIGIN for v in origin):
+        raise ValueError(f'origin {origin} must be finite, within {MAX_MAP_ORIGIN} m')
+    quaternion = (q.x, q.y, q.z, q.w)
+    if not all(math.isfinite(v) for v in quaternion) or \
+            abs(math.sqrt(sum(v * v for v in quaternion)) - 1.0) > 0.01:
+        raise ValueError(f'origin orientation {quaternion} is not a unit quaternion')
+    if abs(yaw_of_quaternion(quaternion)) > 1e-6 or abs(q.x) + abs(q.y) > 1e-6:
+        raise ValueError('a rotated map origin is not supported (obstacles are axis-aligned)')
+    if info.width < 1 or info.height < 1:
+        raise ValueError(f'{info.width} x {info.height} cells: a map has at least one')
+    values = np.asarray(msg.data, dtype=np.int16)
+    if values.size != info.width * info.height:
+        raise ValueError(f'{values.size} cells for {info.width} x {info.height}')
+    if values.size and (values.min() < -1 or values.max() > 100):
+        raise ValueError('cell values must be in [-1, 100]')
+    return values.reshape(info.height, info.width) >= 50, info.resolution, origin[:2]
+
+
+def diagnostics_msg(stamp, name: str, hardware_id: str, level: bytes, message: str,
+                    values: dict) -> DiagnosticArray:
+    """A diagnostic_msgs/DiagnosticArray with one status."""
+    status = DiagnosticStatus(level=level, name=name, message=message, hardware_id=hardware_id,
+                              values=[KeyValue(key=k, value=str(v)) for k, v in values.items()])
+    msg = DiagnosticArray(status=[status])
+    msg.header.stamp = stamp
+    return msg

@@ -5,20 +5,31 @@ with the sensor time they answer), map (nav_msgs/OccupancyGrid, transient local:
 Publishes every control period: /clock (rosgraph_msgs/Clock), joint_states
 (sensor_msgs/JointState), imu (sensor_msgs/Imu), odom (nav_msgs/Odometry, ground truth pelvis),
 left_foot_wrench / right_foot_wrench (geometry_msgs/WrenchStamped, ankle F/T sensors),
-zmp (geometry_msgs/PointStamped, measured from the F/T sensors), com (PointStamped, ground truth).
-Services: push (biped_msgs/Push), reset (std_srvs/Trigger), set_terrain (biped_msgs/SetTerrain).
+zmp (geometry_msgs/PointStamped, measured from the F/T sensors), com (PointStamped, ground truth);
+diagnostics (diagnostic_msgs/DiagnosticArray: whether the controller's commands arrive) once a
+second and when that changes.
+Services: push (biped_msgs/Push), simulator/reset (std_srvs/Trigger: stand the robot at its
+start pose; called by the state machine's reset), set_terrain (biped_msgs/SetTerrain).
 
 Lockstep mode (default): while a controller publishes joint_commands, physics advances one
 control period only when the command answering the last sensor time has arrived, so a run is
-deterministic and as fast as the graph allows; with no controller (or after lockstep_timeout
-of wall time) it advances in real time with the last setpoints. Real-time mode (lockstep false)
-always advances at real_time_factor, for watching in the GUI.
+deterministic and as fast as the graph allows; with no controller it advances in real time.
+Real-time mode (lockstep false) always advances at real_time_factor, for watching in the GUI.
+
+Safety: a controller silent for lockstep_timeout of wall time is lost (reported ERROR on
+diagnostics, naming joint_commands): the robot's safe mode holds its last commanded joint
+positions with the servos, and the clock runs in real time until commands come again.
+Commands with NaN / inf, past a joint limit by more than command_margin, with unknown joints,
+mismatched lengths or a stamp ahead of the simulation are refused (logged) and the previous
+setpoints kept; so are malformed maps (frame, resolution, origin, size). After a reset the
+servos hold the standing pose for reset_hold, while the controller restarts.
 """
 import math
 import time
 
 from biped_msgs.srv import Push, SetTerrain
 from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped, WrenchStamped
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry
 import numpy as np
@@ -31,85 +42,27 @@ from std_srvs.srv import Trigger
 
 from biped_planner.node_support.dataclass_parameters import declare_node_parameters
 from biped_planner.node_support.node_runner import run_node
-from biped_planner.parameter_fields import field_specs
+from biped_planner.node_support.rejection_log import RejectionLog
 from biped_sim.camera_view import CameraView
-from biped_sim.closed_loop import ClosedLoopParams
 from biped_sim.errors import BipedSimError
 from biped_sim.external_push import ExternalPush
-from biped_sim.frame_recorder import FPS_RANGE
+from biped_sim.joint_limits import joint_limits_from_urdf
 from biped_sim.joint_servo import step_toward
-from biped_sim.nodes.conversions import (imu_msg, joint_state_msg, odometry_msg, point_msg,
-                                         setpoints_from_joint_state, wrench_msg)
+from biped_sim.nodes.conversions import (checked_command, diagnostics_msg, imu_msg,
+                                         joint_state_msg, occupied_cells_from_map, odometry_msg,
+                                         point_msg, wrench_msg)
+from biped_sim.nodes.simulator_parameters import (BACKENDS, READ_ONLY, SIMULATOR_PARAMETERS,
+                                                  terrain_from)
 from biped_sim.obstacles import boxes_from_occupied_cells
 from biped_sim.pybullet_config import PyBulletConfig
-from biped_sim.robot_catalogue import load_robot, ROBOTS
-from biped_sim.terrain import generate_terrain, TerrainParams
+from biped_sim.robot_catalogue import load_robot
 
 LATCHED_IN = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                         reliability=ReliabilityPolicy.RELIABLE)
 MAX_PUSH_FORCE = 5000.0  # N: beyond any push the robot could feel; larger requests are errors
-BACKENDS = ('pybullet', 'model')
-
-
-def from_library(cls, field: str, default=None, description: str = None,
-                 transform=None) -> tuple:
-    """(default, description, range) of a node parameter that sets a library dataclass field.
-
-    The range is the field's own (biped_planner.parameter_fields), so the node cannot restate
-    it; default None takes the library's default.
-
-    :param transform: maps the field's bounds to the parameter's (a tile area to its side)
-    """
-    spec = field_specs(cls)[field]
-    bounds = spec.bounds
-    if transform is not None:
-        bounds = tuple(transform(b) for b in bounds)
-    value = cls.__dataclass_fields__[field].default if default is None else default
-    return value, description or spec.description, bounds
-
-
-SIMULATOR_PARAMETERS = {
-    'backend': ('pybullet', 'physics: PyBullet humanoid or the three-mass model plant',
-                BACKENDS),
-    'robot': ('coman_like', 'the simulated humanoid (biped_sim.robot_catalogue)',
-              tuple(ROBOTS)),
-    'gui': from_library(PyBulletConfig, 'gui'),
-    'control_mode': from_library(PyBulletConfig, 'control_mode'),
-    'control_period': (0.02, 'one controller cycle: sensor publication period (s)', (0.001, 1.0)),
-    'physics_step': from_library(PyBulletConfig, 'time_step'),
-    'leg_kp': from_library(PyBulletConfig, 'leg_kp', 2000.0),
-    'leg_kd': from_library(PyBulletConfig, 'leg_kd'),
-    'setpoint_parts': from_library(ClosedLoopParams, 'setpoint_interpolation', 4,
-                                   'parts of a period with interpolated setpoints (servo ramp)'),
-    'lockstep': (True, 'physics waits for the command answering the last sensor time', None),
-    'lockstep_timeout': (0.5, 'wall time without a command after which it steps anyway (s)',
-                         (0.01, 60.0)),
-    'real_time_factor': (1.0, 'speed of the clock without lockstep (or controller)',
-                         (0.01, 100.0)),
-    'start_x': (0.0, 'pelvis start x (m)', (-1e4, 1e4)),
-    'start_y': (0.0, 'pelvis start y (m)', (-1e4, 1e4)),
-    'start_yaw': (0.0, 'pelvis start heading (rad)', (-7.0, 7.0)),
-    'frame_id': ('map', 'frame of odom, zmp and com', None),
-    'terrain.kind': (0, 'terrain at start, the robot standing on it: 0 flat, 1 tiles', (0, 1)),
-    'terrain.side_length': from_library(TerrainParams, 'side_length'),
-    'terrain.origin_x': from_library(TerrainParams, 'origin', -2.0, 'x of the area corner with '
-                                     'the smallest coordinates (m)'),
-    'terrain.origin_y': from_library(TerrainParams, 'origin', -2.0, 'y of the area corner with '
-                                     'the smallest coordinates (m)'),
-    'terrain.tile_size': from_library(TerrainParams, 'tile_area', 0.2, 'side of a square tile '
-                                      '(m): 0.1, 0.2, 0.25 in the paper', math.sqrt),
-    'terrain.min_height': from_library(TerrainParams, 'min_height'),
-    'terrain.max_height': from_library(TerrainParams, 'max_height'),
-    'terrain.seed': from_library(TerrainParams, 'seed'),
-    'camera.frames_dir': ('', 'directory for PNG camera frames (pybullet); empty: off', None),
-    'camera.fps': (12.5, 'camera frames per second of sim time', FPS_RANGE),
-    'camera.width': from_library(CameraView, 'width'),
-    'camera.height': from_library(CameraView, 'height'),
-    'camera.distance': from_library(CameraView, 'distance', 2.5,
-                                    'camera distance from the pelvis (m)'),
-    'camera.yaw': from_library(CameraView, 'yaw', description='camera azimuth (deg)'),
-    'camera.pitch': from_library(CameraView, 'pitch'),
-}
+MAX_PUSH_POINT = 2.0  # m: the point of a push is on the link, not metres away from it
+DIAGNOSTICS_PERIOD = 1.0  # s of wall time
+DIAGNOSTIC_NAME = 'simulator: joint_commands'
 
 
 def stamp_of(t: float) -> Time:
@@ -121,37 +74,30 @@ def seconds_of(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
-def terrain_from(kind: int, side_length: float, origin_x: float, origin_y: float,
-                 tile_size: float, min_height: float, max_height: float, seed: int):
-    """The terrain of a SetTerrain request or of the terrain.* parameters (None: flat).
-
-    :raises ValueError, BipedSimError: for an unknown kind or invalid tiles
-    """
-    if kind == SetTerrain.Request.FLAT:
-        return None
-    if kind != SetTerrain.Request.TILES:
-        raise ValueError(f'kind {kind} unknown: 0 flat, 1 tiles')
-    return generate_terrain(TerrainParams(
-        tile_area=tile_size ** 2, side_length=side_length, min_height=min_height,
-        max_height=max_height, origin=(origin_x, origin_y), seed=int(seed)))
-
-
 class SimulatorNode(Node):
     """Thin adapter over a biped_sim SimulatorBackend (PyBullet or the model plant)."""
 
     def __init__(self, **kwargs) -> None:
         super().__init__('simulator', **kwargs)
-        declare_node_parameters(self, SIMULATOR_PARAMETERS)
+        declare_node_parameters(self, SIMULATOR_PARAMETERS, read_only=READ_ONLY)
         self._frame = self.get_parameter('frame_id').value
         self._period = float(self.get_parameter('control_period').value)
         self._backend = self._make_backend()
         self._names = tuple(self._backend.joint_names)
+        self._lower, self._upper = joint_limits_from_urdf(self._backend.description.urdf_path,
+                                                          self._names)
+        self._reject = RejectionLog(self.get_logger().error)
+        self._controller_seen = False  # a command has come since the start
+        self._controller_lost = False
+        self._hold_until = -math.inf  # sim time until which commands are ignored (reset)
         self._setpoints = self._nominal_setpoints()
         self._previous_setpoints = None
         self._velocities = np.zeros(len(self._names))
         self._substeps = max(1, int(round(self._period /
                                           float(self.get_parameter('physics_step').value))))
         self._last_step_wall = time.monotonic()
+        self._last_command_wall = self._last_step_wall
+        self._last_command_stamp = -math.inf  # sim time a valid command answered last
         self._wall = WallClock(clock_type=ClockType.STEADY_TIME)
         self._map_boxes = []
         self._terrain = None
@@ -179,14 +125,17 @@ class SimulatorNode(Node):
                                                      self._on_command, 10)
         self.create_subscription(OccupancyGridMsg, 'map', self._on_map, LATCHED_IN)
         self.create_service(Push, 'push', self._on_push)
-        self.create_service(Trigger, 'reset', self._on_reset)
+        # internal: the state machine's user-facing reset calls it and re-initialises the rest
+        self.create_service(Trigger, 'simulator/reset', self._on_reset)
         self.create_service(SetTerrain, 'set_terrain', self._on_set_terrain)
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self._readings = self._reset_robot()
         self._publish(self._readings)
         # Real time: one step a tick. Lockstep steps run in the command callback, and a tick
         # only times the controller's silence (a faster poll would only cost wake-ups).
         self._timer = self.create_timer(self._real_time_period(), self._on_timer,
                                         clock=self._wall)
+        self.create_timer(DIAGNOSTICS_PERIOD, self._publish_diagnostics, clock=self._wall)
         self.get_logger().info(
             f'{self.get_parameter("backend").value} simulator ready: {len(self._names)} joints, '
             f'{"lockstep" if self._lockstep() else "real time"}')
@@ -251,17 +200,39 @@ class SimulatorNode(Node):
 
     # --- stepping ---------------------------------------------------------------------------
     def _on_command(self, msg: JointState) -> None:
+        stamp = seconds_of(msg.header.stamp)
+        now = self._now()
         try:
-            self._setpoints = setpoints_from_joint_state(msg, self._names, self._setpoints)
-            if len(msg.velocity) == len(msg.name):
-                self._velocities = setpoints_from_joint_state(
-                    JointState(name=msg.name, position=msg.velocity), self._names,
-                    np.zeros(len(self._names)))
-        except ValueError as error:
-            self.get_logger().error(f'joint_commands rejected: {error}',
-                                    throttle_duration_sec=2.0)
+            if stamp > now + 1e-6:
+                raise ValueError(f'stamp {stamp:.3f} s is ahead of the simulation ({now:.3f} s)')
+            if stamp < self._last_command_stamp - 1e-6:
+                raise ValueError(f'stamp {stamp:.3f} s goes back (the last command answered '
+                                 f't={self._last_command_stamp:.3f} s)')
+            setpoints, velocities = checked_command(
+                msg, self._names, self._setpoints, (self._lower, self._upper),
+                float(self.get_parameter('command_margin').value),
+                float(self.get_parameter('max_command_velocity').value))
+        except (ValueError, BipedSimError) as error:
+            self._reject('joint_commands', error)
+            if self._lockstep() and abs(stamp - now) < 1e-6 and not self._controller_lost:
+                self._step()  # answered, wrongly: the period runs on the previous setpoints
             return
-        if self._lockstep() and seconds_of(msg.header.stamp) >= self._now() - 1e-6:
+        self._controller_seen = True
+        if self._controller_lost:
+            if stamp <= self._last_command_stamp:
+                return  # not an answer to newer sensors: the servos go on holding
+            self._controller_lost = False
+            self.get_logger().info(f'joint_commands arrive again at t={now:.2f} s: '
+                                   f'{"lockstep" if self._lockstep() else "real time"}')
+            self._publish_diagnostics()
+        self._last_command_wall = time.monotonic()
+        self._last_command_stamp = stamp
+        if now < self._hold_until:
+            self.get_logger().info(f'reset: the servos hold the standing pose until '
+                                   f't={self._hold_until:.2f} s', throttle_duration_sec=5.0)
+        else:
+            self._setpoints, self._velocities = setpoints, velocities
+        if self._lockstep() and stamp >= now - 1e-6:
             self._step()
 
     def _real_time_period(self) -> float:
@@ -272,15 +243,53 @@ class SimulatorNode(Node):
         period_ns = int(round(self._real_time_period() * 1e9))
         if self._timer.timer_period_ns != period_ns:  # real_time_factor changed
             self._timer.timer_period_ns = period_ns
-        if self._lockstep() and self._command_sub.get_publisher_count() > 0:
-            waited = time.monotonic() - self._last_step_wall
-            if waited >= float(self.get_parameter('lockstep_timeout').value):
-                self.get_logger().warning(f'no joint command for t={self._now():.2f} '
-                                          f'after {waited:.2f} s: stepping with the last one',
-                                          throttle_duration_sec=5.0)
-                self._step()
+        timeout = float(self.get_parameter('lockstep_timeout').value)
+        now = time.monotonic()
+        if not self._lockstep() or self._controller_lost or not (
+                self._controller_seen or self._command_sub.get_publisher_count() > 0):
+            if self._controller_seen and not self._controller_lost and \
+                    now - self._last_command_wall >= timeout:
+                self._lose_controller(now - self._last_command_wall)
+            self._step()
             return
+        # lockstep: wait for the command answering the last step (before the first command,
+        # since the last step: a controller that does not answer yet)
+        silent = now - (self._last_command_wall if self._controller_seen else
+                        self._last_step_wall)
+        if silent < timeout:
+            return
+        if self._controller_seen:
+            self._lose_controller(silent)
+        else:
+            self.get_logger().warning(f'no joint command for t={self._now():.2f} after '
+                                      f'{silent:.2f} s: stepping with the last one',
+                                      throttle_duration_sec=5.0)
         self._step()
+
+    def _lose_controller(self, silent: float) -> None:
+        """The robot's safe mode: the servos hold the last commanded positions, at rest."""
+        self._controller_lost = True
+        self._velocities = np.zeros(len(self._names))
+        self._previous_setpoints = self._setpoints.copy()
+        self.get_logger().error(f'no valid joint_commands for {silent:.2f} s at '
+                                f't={self._now():.2f} s: controller lost; holding its last '
+                                'joint positions, running in real time')
+        self._publish_diagnostics()
+
+    def _publish_diagnostics(self) -> None:
+        if self._controller_lost:
+            level, message = DiagnosticStatus.ERROR, (
+                'no valid joint_commands: controller lost; holding the last joint positions, '
+                'running in real time')
+        elif self._controller_seen:
+            level, message = DiagnosticStatus.OK, 'joint_commands arrive'
+        else:
+            level, message = DiagnosticStatus.OK, 'no controller yet: running in real time'
+        silent = time.monotonic() - self._last_command_wall if self._controller_seen else -1.0
+        self._diagnostics_pub.publish(diagnostics_msg(
+            stamp_of(self._now()), DIAGNOSTIC_NAME, self.get_parameter('robot').value, level,
+            message, {'topic': 'joint_commands', 'seconds_since_last_command': f'{silent:.3f}',
+                      'sim_time': f'{self._now():.3f}'}))
 
     def _step(self) -> None:
         self._last_step_wall = time.monotonic()
@@ -318,11 +327,13 @@ class SimulatorNode(Node):
         force = (request.force.x, request.force.y, request.force.z)
         point = (request.point.x, request.point.y, request.point.z)
         values = force + point + (request.duration,)
-        if not all(math.isfinite(v) for v in values) or request.duration <= 0.0 or \
-                math.hypot(*force) > MAX_PUSH_FORCE:
+        if not all(math.isfinite(v) for v in values) or not 0.0 < request.duration <= 60.0 or \
+                math.hypot(*force) > MAX_PUSH_FORCE or math.hypot(*point) > MAX_PUSH_POINT:
             response.success = False
             response.message = (f'push rejected: force {force} N (|F| <= {MAX_PUSH_FORCE}), '
-                                 f'duration {request.duration} s (> 0) and point must be finite')
+                                f'duration {request.duration} s (in (0, 60]) and point {point} '
+                                f'm (|p| <= {MAX_PUSH_POINT}) must be finite')
+            self.get_logger().warning(response.message)
             return response
         start = seconds_of(request.start) - self._time_offset  # in the backend's time
         start = start if start > self._readings.time else None
@@ -332,6 +343,7 @@ class SimulatorNode(Node):
                                             start_time=start))
         except BipedSimError as error:
             response.success, response.message = False, f'push rejected: {error}'
+            self.get_logger().warning(response.message)
             return response
         response.success = True
         begins = self._time_offset + (self._readings.time if start is None else start)
@@ -341,9 +353,19 @@ class SimulatorNode(Node):
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self._time_offset += self._readings.time + self._period
-        self._readings = self._reset_robot()
+        try:
+            self._readings = self._reset_robot()
+        except (BipedSimError, ValueError) as error:
+            response.success, response.message = False, f'reset failed: {error}'
+            self.get_logger().error(response.message)
+            return response
+        self._hold_until = self._now() + float(self.get_parameter('reset_hold').value)
         self._publish(self._readings)
-        response.success, response.message = True, 'robot reset to its start pose'
+        p = self._readings.base.position
+        response.success = True
+        response.message = (f'robot standing at its start pose ({p[0]:.2f}, {p[1]:.2f}) from '
+                            f't={self._now():.2f} s')
+        self.get_logger().info(response.message)
         return response
 
     def _on_set_terrain(self, request: SetTerrain.Request, response: SetTerrain.Response):
@@ -354,8 +376,9 @@ class SimulatorNode(Node):
             terrain = terrain_from(request.kind, request.side_length, request.origin_x,
                                    request.origin_y, request.tile_size, request.min_height,
                                    request.max_height, request.seed)
-        except (BipedSimError, ValueError) as error:
+        except (BipedSimError, ValueError, OverflowError) as error:
             response.success, response.message = False, f'terrain rejected: {error}'
+            self.get_logger().warning(response.message)
             return response
         self._terrain = terrain
         self._rebuild_scenery()
@@ -365,13 +388,13 @@ class SimulatorNode(Node):
     def _on_map(self, msg: OccupancyGridMsg) -> None:
         if not hasattr(self._backend, 'add_obstacles'):
             return
-        values = np.asarray(msg.data, dtype=np.int16)
-        if values.size != msg.info.width * msg.info.height or msg.info.resolution <= 0.0:
-            self.get_logger().error('map ignored: data size or resolution malformed')
+        try:
+            occupied, resolution, origin = occupied_cells_from_map(msg, self._frame)
+            boxes = boxes_from_occupied_cells(occupied, resolution, origin)
+        except (ValueError, BipedSimError) as error:
+            self._reject('map', error)
             return
-        occupied = values.reshape(msg.info.height, msg.info.width) >= 50
-        origin = (msg.info.origin.position.x, msg.info.origin.position.y)
-        self._map_boxes = boxes_from_occupied_cells(occupied, msg.info.resolution, origin)
+        self._map_boxes = boxes
         self._rebuild_scenery()
         self.get_logger().info(f'{len(self._map_boxes)} obstacle boxes from the map')
 

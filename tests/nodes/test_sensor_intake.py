@@ -1,0 +1,71 @@
+"""Tests of the controller's sensor intake: which messages it keeps (no DDS needed)."""
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import WrenchStamped
+from nav_msgs.msg import Odometry
+import pytest
+
+from biped_mpc.input_bounds import InputBounds
+from biped_mpc.nodes.sensor_intake import MAX_JUMP, NEW_TIMELINE, SensorFrames, SensorIntake
+
+
+def intake(clock=None):
+    return SensorIntake(InputBounds(), SensorFrames(), ['j'] * 12, [-1.0] * 12, [1.0] * 12,
+                        lambda: clock)
+
+
+def odom(t: float, x: float = 0.0, frame: str = 'map') -> Odometry:
+    msg = Odometry()
+    msg.header.stamp = Time(sec=int(t), nanosec=int(round((t - int(t)) * 1e9)))
+    msg.header.frame_id, msg.child_frame_id = frame, 'pelvis'
+    msg.pose.pose.position.x, msg.pose.pose.position.z = x, 0.54
+    msg.pose.pose.orientation.w = 1.0
+    return msg
+
+
+def test_a_valid_message_is_kept_and_a_refused_one_keeps_the_previous():
+    sensors = intake()
+    assert sensors.accept('odom', odom(1.0)) == (True, None)
+    kept, why = sensors.accept('odom', odom(1.02, x=1e30))
+    assert not kept and 'workspace' in why
+    assert sensors.valid['odom'].pose.pose.position.x == 0.0
+    assert sensors.has_period('odom', (1, 20000000))  # refused, but that period's came
+    assert 'odom 0.30 s old' in sensors.stale(['odom'], 1.3, 0.1)
+
+
+@pytest.mark.parametrize('t, words', [(0.5, 'goes back'), (1.0 + MAX_JUMP + 0.1, 'jumps ahead')])
+def test_stamps_off_the_stream_are_refused(t, words):
+    sensors = intake()
+    sensors.accept('odom', odom(1.0))
+    kept, why = sensors.accept('odom', odom(t))
+    assert not kept and words in why
+    assert sensors.accept('odom', odom(1.02)) == (True, None)
+
+
+def test_a_refused_message_stamped_ahead_does_not_make_the_next_valid_ones_old():
+    sensors = intake()
+    sensors.accept('odom', odom(1.0))
+    sensors.accept('odom', odom(1.2, x=float('nan')))
+    assert sensors.accept('odom', odom(1.02)) == (True, None)
+
+
+def test_with_a_clock_a_stamp_ahead_of_it_is_refused():
+    sensors = intake(clock=10.0)
+    kept, why = sensors.accept('odom', odom(12.0))
+    assert not kept and 'ahead of the clock' in why
+
+
+def test_a_restarted_simulator_becomes_the_time_once_it_runs_on():
+    sensors = intake()
+    sensors.accept('odom', odom(50.0))
+    results = [sensors.accept('odom', odom(0.02 * k))[0] for k in range(1, NEW_TIMELINE + 2)]
+    assert not any(results[:NEW_TIMELINE - 1]) and all(results[NEW_TIMELINE - 1:])
+
+
+def test_wrong_frames_are_refused():
+    sensors = intake()
+    kept, why = sensors.accept('odom', odom(1.0, frame='odom'))
+    assert not kept and "'odom'" in why
+    wrench = WrenchStamped()
+    wrench.header.frame_id = ''
+    kept, why = sensors.accept('right_foot_wrench', wrench)
+    assert not kept and 'r_ankle_ft' in why
