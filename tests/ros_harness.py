@@ -1,8 +1,10 @@
 """Helpers for node-level and graph tests with real rclpy and real DDS (no mocks)."""
 import os
+import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 from typing import Callable, List, Optional
@@ -133,3 +135,51 @@ class SimClock:
             self.publisher.publish(Clock(clock=Time(sec=sec, nanosec=int((self.t - sec) * 1e9))))
             for _ in range(3):
                 self.executor.spin_once(timeout_sec=0.0)
+
+
+class RosoutLines:
+    """The log lines of every node (rcl_interfaces/Log on /rosout)."""
+
+    def __init__(self, node):
+        from rcl_interfaces.msg import Log
+        self.lines = []
+        node.create_subscription(Log, '/rosout', lambda m: self.lines.append(
+            f'[{m.name}] {m.msg}'), 100)
+
+    def has(self, *words) -> bool:
+        return any(all(word in line for word in words) for line in self.lines)
+
+
+def goal_pose_msg(x: float, y: float, frame: str = 'map', q=(0.0, 0.0, 0.0, 1.0)):
+    """A geometry_msgs/PoseStamped goal at (x, y) with orientation q (x, y, z, w)."""
+    from geometry_msgs.msg import PoseStamped
+    msg = PoseStamped()
+    msg.header.frame_id = frame
+    msg.pose.position.x, msg.pose.position.y = x, y
+    o = msg.pose.orientation
+    o.x, o.y, o.z, o.w = q
+    return msg
+
+
+class OutputLines:
+    """A child process's output (text mode, stdout piped), collected line by line."""
+
+    def __init__(self, process) -> None:
+        self.lines: List[str] = []
+        threading.Thread(target=self._read, args=(process,), daemon=True).start()
+
+    def _read(self, process) -> None:
+        for line in process.stdout:
+            self.lines.append(line.rstrip())
+
+    def wait_for_line(self, pattern: str, timeout: float):
+        """The first match of pattern in a line within timeout s; :raises AssertionError:"""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            for line in list(self.lines):
+                match = re.search(pattern, line)
+                if match:
+                    return match
+            time.sleep(0.05)
+        raise AssertionError(f'no line matching {pattern!r} in {timeout} s:\n' +
+                             '\n'.join(self.lines[-60:]))

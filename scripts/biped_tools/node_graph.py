@@ -125,6 +125,8 @@ class NodeGraph:
                      '-p', f'gui:={str(self.options.gui).lower()}']
         if name == 'map_server':
             args += self.map_server_arguments()
+        if name == 'state_machine' and 'footstep_planner' not in self.options.nodes:
+            args += ['-p', 'use_planner:=false']  # walks in place, without waiting for one
         for override in self.options.overrides.get(name, []):
             args += ['-p', override]
         return args

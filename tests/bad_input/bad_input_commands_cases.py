@@ -12,12 +12,30 @@ from geometry_msgs.msg import PoseArray, PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid
 from std_srvs.srv import Trigger
 
+from biped_planner.errors import BipedPlannerError
+from biped_planner.node_support.map_messages import grid_from_msg
+
 from bad_input_harness import Case, logs, refused_response, refused_status, Topic
+from ros_harness import goal_pose_msg
 
 NAN, INF, HUGE = math.nan, math.inf, 1e30
 INVALID_VALUE, UNKNOWN_COMMAND, NOT_ALLOWED = 1, 2, 3  # biped_msgs/CommandStatus
 INVALID_COMMAND, UNKNOWN_FRAME = FootstepPlan.ERROR_INVALID_COMMAND, \
     FootstepPlan.ERROR_UNKNOWN_FRAME
+
+
+
+def a_valid_map(msg: OccupancyGrid) -> bool:
+    """Whether the nodes take msg (a case copies the newest valid map: a bad map that DDS
+    delivers back must not become the base of the next case, whose rejection would then read
+    like the one before and be rate-limited as it)."""
+    try:
+        grid_from_msg(msg)
+    except (BipedPlannerError, ValueError):
+        return False
+    return all(math.isfinite(v) for v in (msg.info.origin.position.x,
+                                          msg.info.origin.position.y))
+
 
 TOPICS = {
     'walk_command': Topic(WalkCommand, flow=False),
@@ -25,7 +43,7 @@ TOPICS = {
     'cmd_vel': Topic(Twist, flow=False),
     'map': Topic(OccupancyGrid, latched=True, flow=False, usable=lambda m: (
         m.header.frame_id == 'map' and 0.0 < m.info.resolution < 1.0 and
-        len(m.data) == m.info.width * m.info.height > 0)),
+        len(m.data) == m.info.width * m.info.height > 0 and a_valid_map(m))),
     'footstep_plan': Topic(FootstepPlan, latched=True, flow=False, usable=lambda m: (
         m.status == FootstepPlan.STATUS_OK and len(m.footsteps) > 3)),
     'walking_state': Topic(WalkingState),
@@ -92,14 +110,7 @@ WALK_COMMAND = [
 
 # --- goal_pose ----------------------------------------------------------------------------
 def goal(frame='map', x=1.0, y=0.0, q=(0.0, 0.0, 0.0, 1.0)):
-    def build(_msg, _fuzzer):
-        msg = PoseStamped()
-        msg.header.frame_id = frame
-        msg.pose.position.x, msg.pose.position.y = x, y
-        o = msg.pose.orientation
-        o.x, o.y, o.z, o.w = q
-        return msg
-    return build
+    return lambda _msg, _fuzzer: goal_pose_msg(x, y, frame, q)
 
 
 GOAL_POSE = [

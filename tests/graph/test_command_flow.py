@@ -17,7 +17,7 @@ from std_srvs.srv import Trigger
 
 from biped_planner.occupancy_grid import OccupancyGrid
 from biped_tools.graph_session import GraphSession
-from ros_harness import domain_id_for_worker
+from ros_harness import domain_id_for_worker, goal_pose_msg
 
 REPEATS = 20
 
@@ -74,14 +74,6 @@ def stamp(msg) -> float:
     return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
 
-def goal_pose(x: float, y: float) -> PoseStamped:
-    msg = PoseStamped()
-    msg.header.frame_id = 'map'
-    msg.pose.position.x, msg.pose.position.y = x, y
-    msg.pose.orientation.w = 1.0
-    return msg
-
-
 def only_subscriber_of_user_topics(session) -> None:
     for topic in ('/walk_command', '/goal_pose', '/cmd_vel'):
         session.wait_for_nodes_on(topic, ('state_machine',))  # names known: discovery done
@@ -89,13 +81,7 @@ def only_subscriber_of_user_topics(session) -> None:
         assert names == ['state_machine'], (topic, names)
 
 
-CMD_VEL_KNOWN_FAILURE = pytest.mark.xfail(
-    strict=False, reason='open (issue 12): on a loaded 2-core machine a one-shot cmd_vel can '
-    'meet a walk still stopping from the previous one and is refused; seen in 2 of 2 full runs')
-
-
-@pytest.mark.parametrize('user_topic', ['walk_command', 'goal_pose',
-                                        pytest.param('cmd_vel', marks=CMD_VEL_KNOWN_FAILURE)])
+@pytest.mark.parametrize('user_topic', ['walk_command', 'goal_pose', 'cmd_vel'])
 def test_commands_sent_once_right_after_the_first_match_take_effect_every_time(user_topic):
     """Each command from a fresh publisher that sends it once, as soon as it matches; then the
     walk it started is carried into its first step and ended (STOP, or cmd_vel falling silent
@@ -117,7 +103,7 @@ def test_commands_sent_once_right_after_the_first_match_take_effect_every_time(u
                                    WalkCommand(command=WalkCommand.START))
             elif user_topic == 'goal_pose':
                 x, y = session.series.pelvis[-1][1:3]
-                watch.publish_once(PoseStamped, 'goal_pose', goal_pose(x + 0.5, y))
+                watch.publish_once(PoseStamped, 'goal_pose', goal_pose_msg(x + 0.5, y))
             else:
                 watch.publish_once(Twist, 'cmd_vel', Twist())
             if session.spin_until(lambda: watch.walks() - walks, 60.0):

@@ -4,8 +4,6 @@ Each test brings up the five nodes (scripts/bringup.py, lockstep sim time), acts
 DDS and asserts the physical outcome from the topics and from the recorded bag.
 """
 import math
-
-import pytest
 import os
 import signal
 
@@ -55,9 +53,6 @@ def test_start_to_goal_around_obstacles_arrives_and_the_bag_reads_back(tmp_path)
         assert len(plan.footsteps) == summary['steps_planned'] + 2
 
 
-@pytest.mark.xfail(strict=False, reason='open (issue 12): with the cmd_vel timeout, the '
-                   'repeated teleop messages of the session do not keep the walk going in this '
-                   'test; the direction changes are refused while the walk stops')
 def test_teleop_cmd_vel_walks_forward_sideways_and_turning():
     with GraphSession(domain_id_for_worker(), log=print) as session:
         session.wait_until_ready()

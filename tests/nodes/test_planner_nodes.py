@@ -186,7 +186,7 @@ def test_a_malformed_map_is_rejected_and_goals_then_report_no_map(graph):
     plan = latest_plan(graph)
     assert plan.error_code == FootstepPlan.ERROR_NO_MAP
     status = last_status(graph, statuses)
-    assert status.error_code == CommandStatus.NOT_ALLOWED and 'no valid map' in status.error_msg
+    assert status.error_code == CommandStatus.PLANNING_FAILED and 'no valid map' in status.error_msg
 
 
 def test_teleop_cmd_vel_starts_a_continuous_plan_that_grows_while_walking(graph):

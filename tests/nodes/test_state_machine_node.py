@@ -20,7 +20,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from std_srvs.srv import Trigger
 
 from biped_planner.nodes.state_machine import StateMachineNode
-from ros_harness import Collector, SimClock, spin_until, wait_for_subscribers
+from ros_harness import (Collector, goal_pose_msg, SimClock, spin_until,
+                         wait_for_subscribers)
 
 TIMING = dict(initialize_duration=0.5, single_support=0.3, double_support=0.1)
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -57,7 +58,8 @@ def feet(count, continuous=False, plan_id=1):
 
 
 def make_graph(ros_context, executor, *overrides, planner=None):
-    params = [Parameter('use_sim_time', value=True)] + [
+    params = [Parameter('use_sim_time', value=True),
+              Parameter('use_planner', value=planner is not None)] + [
         Parameter(k, value=v) for k, v in TIMING.items()] + list(overrides)
     node = executor.track(StateMachineNode(context=ros_context, parameter_overrides=params))
     client = executor.track(rclpy.create_node('test_client', context=ros_context))
@@ -93,15 +95,6 @@ def answer_to(g, publish, timeout=5.0) -> CommandStatus:
 
 def send(g, timeout=5.0, **fields) -> CommandStatus:
     return answer_to(g, lambda: g['commands'].publish(WalkCommand(**fields)), timeout)
-
-
-def goal_msg(x, y, frame='map', q=(0.0, 0.0, 0.0, 1.0)):
-    msg = PoseStamped()
-    msg.header.frame_id = frame
-    msg.pose.position.x, msg.pose.position.y = x, y
-    o = msg.pose.orientation
-    o.x, o.y, o.z, o.w = q
-    return msg
 
 
 def twist(vx=0.0, vy=0.0, wz=0.0, **extra):
@@ -206,12 +199,12 @@ def test_bad_commands_are_rejected_with_a_status_and_the_node_keeps_working(
 
 
 @pytest.mark.parametrize('goal, words', [
-    (goal_msg(1.0, 1.0, frame=''), "frame_id '' is not the map frame 'map'"),
-    (goal_msg(1.0, 1.0, frame='odom'), "'odom'"),
-    (goal_msg(1.0, 1.0, q=(0.0, 0.0, 0.0, 0.0)), 'not a unit quaternion'),
-    (goal_msg(1.0, 1.0, q=(0.0, 0.0, 0.9, 0.9)), 'not a unit quaternion'),
-    (goal_msg(math.nan, 1.0), 'position.x must be finite'),
-    (goal_msg(1e30, 1.0), 'goal_x'),
+    (goal_pose_msg(1.0, 1.0, frame=''), "frame_id '' is not the map frame 'map'"),
+    (goal_pose_msg(1.0, 1.0, frame='odom'), "'odom'"),
+    (goal_pose_msg(1.0, 1.0, q=(0.0, 0.0, 0.0, 0.0)), 'not a unit quaternion'),
+    (goal_pose_msg(1.0, 1.0, q=(0.0, 0.0, 0.9, 0.9)), 'not a unit quaternion'),
+    (goal_pose_msg(math.nan, 1.0), 'position.x must be finite'),
+    (goal_pose_msg(1e30, 1.0), 'goal_x'),
 ])
 def test_goal_poses_are_checked_at_the_boundary(graph, goal, words):
     status = answer_to(graph, lambda: graph['goal'].publish(goal))
@@ -221,8 +214,21 @@ def test_goal_poses_are_checked_at_the_boundary(graph, goal, words):
     assert graph['states'].messages[-1].phase == WalkingState.IDLE
 
 
+def test_a_start_waits_for_a_planner_not_yet_discovered_and_is_refused_without_one(
+        ros_context, executor):
+    """use_planner: a request waits for plan_walk up to planner_timeout (discovery at
+    startup), then is refused; it never silently walks in place instead."""
+    g = make_graph(ros_context, executor, Parameter('use_planner', value=True),
+                   Parameter('planner_timeout', value=0.5))
+    status = send(g, command=WalkCommand.START)
+    assert not status.accepted and status.error_code == CommandStatus.PLANNING_FAILED
+    assert 'no answer from plan_walk within 0.5 s' in status.error_msg
+    g['clock'].advance(0.1)
+    assert all(s.phase == WalkingState.IDLE for s in g['states'].messages)
+
+
 def test_a_goal_needs_a_planner(graph):
-    status = answer_to(graph, lambda: graph['goal'].publish(goal_msg(1.0, 1.0)))
+    status = answer_to(graph, lambda: graph['goal'].publish(goal_pose_msg(1.0, 1.0)))
     assert status.error_code == CommandStatus.NOT_ALLOWED
     assert 'no footstep planner' in status.error_msg
     graph['clock'].advance(0.1)
@@ -268,6 +274,23 @@ def test_a_cmd_vel_walk_stops_finishing_its_step_when_cmd_vel_falls_silent(graph
     # the step being taken when the stop came, no more: at most one single + double support
     assert stamp(last) - last.time_in_phase - stamp(stop) <= 0.3 + 0.1 + 1e-6
     assert last.step_index <= stop.step_index + 1
+
+
+def test_a_cmd_vel_sent_while_the_walk_stops_starts_a_new_walk_once_idle(graph):
+    """A teleop that falls silent for a moment and resumes: not refused, the robot walks on
+    after the step it was closing."""
+    g = graph
+    assert answer_to(g, lambda: g['cmd_vel'].publish(twist(vx=0.1))).accepted
+    run(g, 1.0, every=0.1, publish=[lambda: g['cmd_vel'].publish(twist(vx=0.1))], pace=1.0)
+    run(g, 0.7, every=0.1, pace=1.0)  # silence: the timeout stops the walk
+    assert g['states'].messages[-1].stop_requested
+    statuses = len(g['statuses'].messages)
+    g['states'].messages.clear()
+    run(g, 2.0, every=0.1, publish=[lambda: g['cmd_vel'].publish(twist(vy=0.05))], pace=1.0)
+    phases = [s.phase for s in g['states'].messages]
+    idle = phases.index(WalkingState.IDLE)
+    assert WalkingState.INITIALIZE in phases[idle:], 'no new walk after the stop'
+    assert all(s.accepted for s in g['statuses'].messages[statuses:])
 
 
 def test_fall_reported_by_odometry_and_reset(graph):
@@ -479,13 +502,14 @@ def test_a_silent_planner_ends_a_teleop_walk_where_its_plan_ends(ros_context, ex
 def test_a_refused_request_is_answered_with_the_planners_reason(ros_context, executor):
     g = make_graph(ros_context, executor, planner=dict(accept=False))
     status = send(g, command=WalkCommand.OMNI, step_length=0.1)
-    assert status.error_code == CommandStatus.NOT_ALLOWED and 'planner' in status.error_msg
+    assert status.error_code == CommandStatus.PLANNING_FAILED and 'planner' in status.error_msg
     g['clock'].advance(0.2)
     assert g['states'].messages[-1].phase == WalkingState.IDLE
 
 
 def test_a_planner_that_does_not_answer_is_reported(ros_context, executor):
-    g = make_graph(ros_context, executor, Parameter('planner_timeout', value=0.3))
+    g = make_graph(ros_context, executor, Parameter('planner_timeout', value=0.3),
+                   Parameter('use_planner', value=True))
     # a planner on the graph that never answers: its node is never spun
     silent = rclpy.create_node('silent_planner', context=ros_context)
     try:

@@ -56,6 +56,13 @@ def velocity_from_twist(msg: Twist, limits: CommandLimits) -> tuple:
                             (msg.angular.x, msg.angular.y, msg.angular.z), limits)
 
 
+def twist_of(velocity) -> Twist:
+    """The cmd_vel of (vx, vy, wz)."""
+    msg = Twist()
+    msg.linear.x, msg.linear.y, msg.angular.z = (float(v) for v in velocity)
+    return msg
+
+
 def plan_walk_request(request_id: int, kind: int, command: WalkCommandMsg = None,
                       goal: PoseStamped = None, velocity: Twist = None) -> PlanWalk.Request:
     request = PlanWalk.Request()

@@ -6,9 +6,11 @@ Subscribes (user intent: no other node subscribes to these): walk_command
 (biped_msgs/CommandStatus; a goal_pose is answered as GOTO, a cmd_vel as OMNI); an accepted one
 is forwarded to the footstep planner over the service plan_walk (biped_msgs/PlanWalk) with a
 fresh request id, and a walk starts only on the footstep_plan whose request_id is that
-request's (biped_planner.plan_requests). With no planner running, START, OMNI and cmd_vel walk
-in place. A walk driven by cmd_vel stops (finishing its step) when cmd_vel has been silent for
-cmd_vel_timeout.
+request's (biped_planner.plan_requests); a request waits up to planner_timeout for plan_walk to
+be discovered. With use_planner false (a graph without a planner), START, OMNI and cmd_vel walk
+in place. cmd_vel follows the teleop convention (biped_planner.teleop_gate): a repeated velocity
+keeps the walk going, a walk driven by cmd_vel stops (finishing its step) when cmd_vel has been
+silent for cmd_vel_timeout, and a cmd_vel sent while it stops starts a new walk once idle.
 Also subscribes: footstep_plan (transient local), odom (nav_msgs/Odometry: fall detection),
 reference_trajectory and controller_diagnostics (only their arrival is kept): an input that
 stops is named in walking_state.stale_inputs (biped_planner.input_watch); losing the references
@@ -40,12 +42,14 @@ from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.node_support.side_call import SideCall
 from biped_planner.nodes.conversions import (command_status_msg, goal_command_from_msg,
-                                             plan_walk_request, received_plan,
+                                             plan_walk_request, received_plan, twist_of,
                                              velocity_from_twist, walk_command_from_msg,
                                              walking_state_msg)
+from biped_planner.nodes.state_machine_parameters import NODE_PARAMETERS, READ_ONLY
 from biped_planner.plan_requests import (PlanRequests, PlanUse, RequestKind,
                                          walk_request_refusal)
 from biped_planner.pose_checks import PoseBounds, PoseStream
+from biped_planner.teleop_gate import TeleopAction, TeleopGate
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
                                                  WALKING_PHASES, WalkingStateMachine)
@@ -77,24 +81,8 @@ class StateMachineNode(Node):
         self._bounds = declare_dataclass_parameters(
             self, PoseBounds(), {}, prefix='pose_bounds.',
             on_change=lambda p: setattr(self, '_bounds', p))
-        declare_node_parameters(self, {
-            'publish_rate': (50.0, 'walking_state messages per second besides transitions (Hz)',
-                             (0.1, 1000.0)),
-            'update_rate': (200.0, 'timer checking phase ends (Hz)', (1.0, 10000.0)),
-            'fall_detection': (True, 'detect and report falls', None),
-            'map_frame': ('map', 'the frame of goals (goal_pose, GOTO)', None),
-            'odom_frame': ('map', 'the frame of odom (the simulator\'s frame_id)', None),
-            'cmd_vel_timeout': (0.5, 'a walk driven by cmd_vel stops when no cmd_vel came for '
-                                'this long, on the clock and in wall time (s)', (0.05, 60.0)),
-            'input_timeout': (0.5, 'an input silent this long, on the clock and in wall time, '
-                              'is reported in stale_inputs (s)', (0.05, 60.0)),
-            'planner_timeout': (2.0, 'wall time within which plan_walk must answer (s)',
-                                (0.1, 60.0)),
-            'reset_timeout': (5.0, 'wall time within which simulator/reset must answer (s)',
-                              (0.1, 60.0)),
-            'max_stamp_ahead': (0.2, 'odom stamped this far ahead of the clock is refused (s)',
-                                (0.0, 10.0))},
-            read_only=('publish_rate', 'update_rate', 'map_frame', 'odom_frame'))
+        declare_node_parameters(self, NODE_PARAMETERS, read_only=READ_ONLY)
+        self._use_planner = bool(self.get_parameter('use_planner').value)
         self._reject = RejectionLog(self.get_logger().warning)
         self._map_frame = self.get_parameter('map_frame').value
 
@@ -108,8 +96,7 @@ class StateMachineNode(Node):
         self._watch = InputWatch(STREAMS, (PLAN,), self.get_parameter('input_timeout').value,
                                  '/clock' if sim_time else None, ('odom',))
         self._stale = ()
-        self._velocity_walk = False  # the walk follows cmd_vel: it times out
-        self._last_cmd_vel = None    # (clock, wall) time of the last valid cmd_vel
+        self._teleop = TeleopGate()  # the walk cmd_vel drives, and its timeout
         self._odometry = PoseStream('odom', self.get_parameter('odom_frame').value)
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
         self._status_pub = self.create_publisher(CommandStatus, 'walk_command_status', 10)
@@ -142,10 +129,11 @@ class StateMachineNode(Node):
         return self._machine.status.phase
 
     def planner_available(self) -> bool:
-        """Whether a footstep planner runs (else walks go in place): its service is known, or
-        the planner is (discovery can show its node and plan before its service)."""
-        return self._planner.service_is_ready() or self.count_publishers(PLAN) > 0 or \
-            'footstep_planner' in self.get_node_names()
+        """Whether the footstep planner runs now: its service is known, or the planner is
+        (discovery can show its node and plan before its service)."""
+        return self._use_planner and (
+            self._planner.service_is_ready() or self.count_publishers(PLAN) > 0 or
+            'footstep_planner' in self.get_node_names())
 
     def _now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
@@ -172,9 +160,18 @@ class StateMachineNode(Node):
                 self._watch.due(PLAN, now, time.monotonic())  # the planner extends every step
             elif status.phase in (Phase.IDLE, Phase.FALLEN):
                 self._watch.withdraw(PLAN)
-                self._velocity_walk = False
+                self._teleop.ended(drop_deferred=status.phase == Phase.FALLEN)
                 self._plan = None
             self._publish(status, now)
+        if transitions and transitions[-1].phase == Phase.IDLE and self._teleop.deferred:
+            velocity = self._teleop.restart(now, time.monotonic(),
+                                            self.get_parameter('cmd_vel_timeout').value)
+            if velocity is None:
+                self._answer(CommandKind.OMNI, CommandStatus.NOT_ALLOWED, 'cmd_vel fell '
+                             'silent before the last walk had stopped: no new walk')
+            else:  # the operator kept sending while the last walk stopped
+                self._request_walk(now, CommandKind.OMNI, RequestKind.VELOCITY,
+                                   velocity=twist_of(velocity))
 
     def _answer(self, command: int, error_code: int, error_msg: str = '') -> None:
         if error_code != CommandStatus.OK:
@@ -220,20 +217,31 @@ class StateMachineNode(Node):
         self._request_walk(self._now(), CommandKind.GOTO, RequestKind.GOAL, goal=msg)
 
     def _on_cmd_vel(self, msg: Twist) -> None:
-        """Teleop: a velocity command starts or steers a walk (the planner makes the steps)."""
+        """Teleop: a new velocity starts or steers a walk (the planner makes the steps); a
+        repeated one keeps it going (biped_planner.teleop_gate)."""
         try:
             velocity_from_twist(msg, self._limits)
         except CommandError as error:
             self._answer(CommandKind.OMNI, CommandStatus.INVALID_VALUE, str(error))
             return
         now = self._now()
-        self._last_cmd_vel = (now, time.monotonic())
-        self._request_walk(now, CommandKind.OMNI, RequestKind.VELOCITY, velocity=msg)
+        self._publish_transitions(self._machine.update(now), now)
+        action = self._teleop.received(
+            (msg.linear.x, msg.linear.y, msg.angular.z), now, time.monotonic(),
+            self._walking(), self._machine.status.stop_requested,
+            self._requests.start_pending)
+        if action == TeleopAction.FORWARD:
+            self._request_walk(now, CommandKind.OMNI, RequestKind.VELOCITY, velocity=msg)
+        elif action == TeleopAction.DEFER:  # answered when the walk has stopped
+            self.get_logger().info('cmd_vel while the walk stops: a new walk follows it once '
+                                   'idle', throttle_duration_sec=2.0)
 
     def _request_walk(self, now: float, user_command: int, kind: RequestKind, **content) -> None:
-        """Start or steer a walk: through the planner when one runs, else in place."""
+        """Start or steer a walk: through the planner (once discovered, within
+        planner_timeout: whether it is discovered yet at startup must not change the walk), or
+        in place without one (use_planner false)."""
         walking = self._walking()
-        planner = self.planner_available()
+        planner = self._use_planner
         refusal = walk_request_refusal(
             self.phase, planner, user_command == CommandKind.GOTO,
             self._plan is not None and self._plan.continuous,
@@ -246,7 +254,7 @@ class StateMachineNode(Node):
                 self._machine.set_plan(None)  # in place, until stopped
                 self._plan_id, self._plan = 0, None
             self._publish_transitions(self._machine.request_start(now), now)
-            self._velocity_walk = kind == RequestKind.VELOCITY
+            self._teleop.driving = kind == RequestKind.VELOCITY
             self._answer(user_command, CommandStatus.OK)
             return
         request, superseded = self._requests.new(kind, user_command, not walking, True,
@@ -280,7 +288,7 @@ class StateMachineNode(Node):
             return  # answered by its plan already, or still waiting for it
         if request.kind in (RequestKind.COMMAND, RequestKind.VELOCITY) and \
                 request.command != CommandKind.STOP:
-            self._velocity_walk = request.kind == RequestKind.VELOCITY
+            self._teleop.driving = request.kind == RequestKind.VELOCITY
         if request.answer_owed:
             self._answer(request.command, CommandStatus.OK)
 
@@ -293,7 +301,7 @@ class StateMachineNode(Node):
                 now, 'stop without the planner', unplanned=True), now)
         if request.answer_owed:
             status = CommandStatus.INVALID_VALUE if code in INVALID_REQUEST_ERRORS else \
-                CommandStatus.NOT_ALLOWED
+                CommandStatus.PLANNING_FAILED
             self._answer(request.command, status, f'planner (request {request.request_id}): '
                          f'{text}' + (f' (FootstepPlan error {code})' if code else ''))
 
@@ -306,7 +314,7 @@ class StateMachineNode(Node):
         cancelled = self._requests.cancel_start()
         if cancelled is not None and cancelled.answer_owed:
             self._answer(cancelled.command, CommandStatus.NOT_ALLOWED, f'cancelled: {reason}')
-        self._velocity_walk = False
+        self._teleop.driving = False
         walking = self._walking()
         planner = self.planner_available()
         transitions = self._machine.request_stop(
@@ -352,7 +360,7 @@ class StateMachineNode(Node):
         self._plan, self._plan_id = plan, plan.plan_id
         self._plan_step = self._machine.status.step_index
         if use == PlanUse.START:
-            self._velocity_walk = request.kind == RequestKind.VELOCITY
+            self._teleop.driving = request.kind == RequestKind.VELOCITY
             if request.answer_owed:
                 self._answer(request.command, CommandStatus.OK)
         self._publish_transitions(transitions, now)
@@ -418,7 +426,8 @@ class StateMachineNode(Node):
                                             time.monotonic())
             self._call_planner(request)
         transitions = self._machine.reset(now)
-        self._plan_id, self._plan, self._velocity_walk = 0, None, False
+        self._plan_id, self._plan = 0, None
+        self._teleop.ended(drop_deferred=True)
         self._publish_transitions(transitions, now)
         text = f'reset: epoch {self._machine.status.epoch}, IDLE ({simulator})'
         self.get_logger().info(text)
@@ -448,8 +457,7 @@ class StateMachineNode(Node):
                 if request is not None:  # else cancelled meanwhile
                     self._call_planner(request, **content)
         timeout = self.get_parameter('cmd_vel_timeout').value
-        if self._velocity_walk and self._walking() and self._last_cmd_vel is not None and \
-                min(now - self._last_cmd_vel[0], wall - self._last_cmd_vel[1]) > timeout:
+        if self._teleop.timed_out(now, wall, timeout, self._walking()):
             self.get_logger().info(f'no cmd_vel for {timeout} s: stopping')
             self._publish_transitions(self._stop(now, f'cmd_vel timeout ({timeout} s)'), now)
         self._watch.timeout = self.get_parameter('input_timeout').value
