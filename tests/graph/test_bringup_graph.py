@@ -2,13 +2,11 @@
 import re
 import signal
 import subprocess
-import threading
-import time
 
 from biped_msgs.msg import WalkCommand, WalkingState
 import rclpy
 
-from ros_harness import Collector, PYTHON, REPO, pid_alive, ros_environment, \
+from ros_harness import Collector, OutputLines, PYTHON, REPO, pid_alive, ros_environment, \
     wait_for_subscribers
 
 BRINGUP = str(REPO / 'scripts' / 'bringup.py')
@@ -18,26 +16,11 @@ class BringupProcess:
     """scripts/bringup.py as a child process whose output is collected line by line."""
 
     def __init__(self, processes, *args: str) -> None:
-        self.lines = []
         self.process = processes.start([PYTHON, BRINGUP, *args], stdout=subprocess.PIPE,
                                        stderr=subprocess.STDOUT, text=True, bufsize=1)
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self) -> None:
-        for line in self.process.stdout:
-            self.lines.append(line.rstrip())
-
-    def wait_for_line(self, pattern: str, timeout: float) -> re.Match:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            for line in list(self.lines):
-                match = re.search(pattern, line)
-                if match:
-                    return match
-            time.sleep(0.05)
-        raise AssertionError(f'no line matching {pattern!r} in {timeout} s:\n' +
-                             '\n'.join(self.lines))
+        self.output = OutputLines(self.process)
+        self.lines = self.output.lines
+        self.wait_for_line = self.output.wait_for_line
 
     def node_pids(self) -> dict:
         return {m.group(1): int(m.group(2)) for m in

@@ -2,10 +2,7 @@
 the README's `ros2 topic pub --once goal_pose` line, and the humanoid walks START -> GOAL around
 the obstacles of that file (the demo's walk: 40-60 s of wall time)."""
 import math
-import re
 import subprocess
-import threading
-import time
 
 from biped_msgs.msg import FootstepPlan, WalkingState
 from nav_msgs.msg import Odometry
@@ -15,7 +12,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 
 from biped_planner.example_maps import paper_start_goal_example
 from biped_planner.map_file import load_map
-from ros_harness import Collector, PYTHON, REPO, ros_environment, spin_until
+from ros_harness import Collector, OutputLines, PYTHON, REPO, ros_environment, spin_until
 
 BRINGUP = str(REPO / 'scripts' / 'bringup.py')
 CLI = str(REPO / 'scripts' / 'ros2_cli.py')
@@ -27,29 +24,6 @@ GOAL_LINE = ['topic', 'pub', '--once', 'goal_pose', 'geometry_msgs/msg/PoseStamp
 LATCHED = QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
-class Lines:
-    """A process's output, collected line by line."""
-
-    def __init__(self, process) -> None:
-        self.lines = []
-        threading.Thread(target=self._read, args=(process,), daemon=True).start()
-
-    def _read(self, process) -> None:
-        for line in process.stdout:
-            self.lines.append(line.rstrip())
-
-    def wait_for(self, pattern: str, timeout: float) -> re.Match:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            for line in list(self.lines):
-                match = re.search(pattern, line)
-                if match:
-                    return match
-            time.sleep(0.05)
-        raise AssertionError(f'no line matching {pattern!r} in {timeout} s:\n' +
-                             '\n'.join(self.lines[-60:]))
-
-
 def test_bringup_with_a_pgm_map_file_walks_start_to_goal(processes, ros_context, executor):
     _, start, goal = paper_start_goal_example()
     grid = load_map(PGM_MAP)
@@ -58,11 +32,11 @@ def test_bringup_with_a_pgm_map_file_walks_start_to_goal(processes, ros_context,
          '-p', f'simulator:start_x:={start.x}', '-p', f'simulator:start_y:={start.y}',
          '-p', f'simulator:start_yaw:={start.yaw}'],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
-    output = Lines(bringup)
-    output.wait_for(r'all nodes up', timeout=60)
-    output.wait_for(r'\[map_server *\] .*serving map from .*paper_start_goal\.yaml: 40 x 40 '
+    output = OutputLines(bringup)
+    output.wait_for_line(r'all nodes up', timeout=60)
+    output.wait_for_line(r'\[map_server *\] .*serving map from .*paper_start_goal\.yaml: 40 x 40 '
                     r'cells of 0\.1 m', timeout=10)
-    obstacles = output.wait_for(r'\[simulator *\] .*?(\d+) obstacle boxes from the map', 30)
+    obstacles = output.wait_for_line(r'\[simulator *\] .*?(\d+) obstacle boxes from the map', 30)
     assert int(obstacles.group(1)) > 0
 
     client = executor.track(rclpy.create_node('map_loading_client', context=ros_context,

@@ -17,7 +17,7 @@ from biped_planner.sides import LEFT, RIGHT, SUPPORT_DOUBLE
 from biped_planner.standing_reference import standing_window
 from biped_planner.walking_reference import ReferenceParams
 from biped_sim.nodes.simulator import SimulatorNode
-from ros_harness import Collector, spin_until, wait_for_subscribers
+from ros_harness import Collector, RosoutLines, spin_until, wait_for_subscribers
 
 
 @pytest.fixture
@@ -94,19 +94,6 @@ def test_a_malformed_reference_is_rejected_and_control_goes_on(loop):
 # --- safety: lost references, bad sensors, a reset ---------------------------------------------
 def seconds(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
-
-
-class RosoutLines:
-    """The log lines of every node (rcl_interfaces/Log on /rosout)."""
-
-    def __init__(self, node):
-        from rcl_interfaces.msg import Log
-        self.lines = []
-        node.create_subscription(Log, '/rosout', lambda m: self.lines.append(
-            f'[{m.name}] {m.msg}'), 100)
-
-    def has(self, *words) -> bool:
-        return any(all(word in line for word in words) for line in self.lines)
 
 
 @pytest.fixture
@@ -196,9 +183,7 @@ def test_bad_sensor_messages_are_refused_the_previous_kept_and_the_robot_stands(
     from geometry_msgs.msg import PointStamped, WrenchStamped
     g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)
-    params = ReferenceParams(foot_length=0.2, foot_width=0.1)
-    stand = lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(  # noqa: E731
-        RIGHT, 0.0, -0.07), params, t, 90, 0.02)
+    stand = window_of
     play_references(g, stand, clock_time(g) + 0.3)
     client = g['client']
     publishers = {name: client.create_publisher(msg_type, name, 10) for name, msg_type in (
@@ -278,8 +263,7 @@ def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk
     g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)
     params = ReferenceParams(foot_length=0.2, foot_width=0.1)
-    stand = lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(  # noqa: E731
-        RIGHT, 0.0, -0.07), params, t, 90, 0.02)
+    stand = window_of
     play_references(g, stand, clock_time(g) + 0.3)
     client = g['client']
     states = client.create_publisher(WalkingState, 'walking_state', 10)

@@ -17,21 +17,10 @@ from biped_planner.footsteps import straight_footsteps
 from biped_planner.node_support.reference_messages import window_from_reference_msg
 from biped_planner.nodes.reference_generator import ReferenceGeneratorNode
 from biped_planner.sides import SUPPORT_DOUBLE
-from ros_harness import Collector, SimClock, spin_until, wait_for_subscribers
+from ros_harness import (Collector, RosoutLines, SimClock, spin_until,
+                         wait_for_subscribers)
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-
-
-class RosoutLines:
-    """The log lines of every node (rcl_interfaces/Log on /rosout)."""
-
-    def __init__(self, node):
-        from rcl_interfaces.msg import Log
-        self.lines = []
-        node.create_subscription(Log, '/rosout', lambda m: self.lines.append(m.msg), 100)
-
-    def has(self, *words) -> bool:
-        return any(all(word in line for word in words) for line in self.lines)
 
 
 @pytest.fixture

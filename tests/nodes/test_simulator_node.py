@@ -12,7 +12,8 @@ from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import Trigger
 
 from biped_sim.nodes.simulator import SimulatorNode
-from ros_harness import Collector, spin_until, wait_for_subscribers
+from ros_harness import (Collector, domain_id_for_worker, RosoutLines, spin_until,
+                         wait_for_subscribers)
 
 
 @pytest.fixture
@@ -195,18 +196,6 @@ def test_the_model_plant_backend_publishes_the_leg_joints(ros_context, executor)
 
 
 # --- safety: a lost controller, refused commands and maps, the hold after a reset --------------
-class RosoutLines:
-    """The log lines of every node (rcl_interfaces/Log on /rosout)."""
-
-    def __init__(self, node):
-        from rcl_interfaces.msg import Log
-        self.lines = []
-        node.create_subscription(Log, '/rosout', lambda m: self.lines.append(m.msg), 100)
-
-    def has(self, *words) -> bool:
-        return any(all(word in line for word in words) for line in self.lines)
-
-
 def answer(sim, commands, bend: float = 0.0) -> JointState:
     """A command answering the last sensor time: the 12 leg joints at the standing pose they
     started in, knees bent by bend (rad)."""
@@ -251,6 +240,62 @@ def test_a_lost_controller_is_reported_and_the_servos_hold_its_last_positions(si
         answer(sim, commands)
         return any(s.level == DiagnosticStatus.OK for d in messages[count:] for s in d.status)
     assert diagnostics.wait_for(sim['executor'], back, timeout=5)
+
+
+TOKEN_PROCESS = """
+import rclpy
+from biped_planner.node_support.liveliness import LivelinessToken
+rclpy.init()
+node = rclpy.create_node('late_controller')
+token = LivelinessToken(node, 'joint_commands')
+rclpy.spin(node)
+"""
+
+
+def test_lockstep_waits_for_a_late_controller_whose_process_lives_and_not_for_a_dead_one(sim):
+    """A controller late beyond lockstep_timeout but alive (DDS liveliness, asserted by its
+    process) is waited for, with a WARN naming joint_commands: the clock holds, whatever the
+    machine's load; once its process is killed, it is lost within the lease and the clock
+    runs."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+    diagnostics = Collector(sim['client'], DiagnosticArray, 'diagnostics', 100)
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain_id_for_worker()),
+               ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    process = subprocess.Popen([sys.executable, '-c', TOKEN_PROCESS], env=env)
+    try:
+        assert spin_until(sim['executor'], lambda: sim['node']._controller_process.alive, 30.0)
+        commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+        assert wait_for_subscribers(sim['executor'], commands)
+        assert sim['joints'].wait_for(sim['executor'], timeout=15)
+        for _ in range(5):
+            count = len(sim['clock'].messages)
+            answer(sim, commands)
+            assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
+        # silent for 4 x lockstep_timeout, alive: reported, and the clock holds
+        count = len(diagnostics.messages)
+        ticks = len(sim['clock'].messages)
+        spin_until(sim['executor'], lambda: False, 2.0)
+        assert len(sim['clock'].messages) - ticks <= 1
+        statuses = [s for d in diagnostics.messages[count:] for s in d.status]
+        assert any(s.level == DiagnosticStatus.WARN and 'joint_commands' in s.message
+                   for s in statuses)
+        assert not any(s.level == DiagnosticStatus.ERROR for s in statuses)
+        # the process dies: lost, safe mode, the clock runs in real time
+        os.kill(process.pid, signal.SIGKILL)
+        process.wait()
+        assert diagnostics.wait_for(sim['executor'], lambda m: any(
+            s.level == DiagnosticStatus.ERROR for d in m[count:] for s in d.status), timeout=5)
+        ticks = len(sim['clock'].messages)
+        spin_until(sim['executor'], lambda: False, 1.0)
+        assert len(sim['clock'].messages) > ticks + 10
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
 
 
 def test_joint_commands_past_the_limits_or_ahead_of_the_clock_are_refused(sim):

@@ -64,6 +64,7 @@ from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.walking_controller import WalkingController
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
+from biped_planner.node_support.liveliness import LivelinessToken, LivelinessWatch
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.reference_messages import window_from_reference_msg
 from biped_planner.node_support.rejection_log import RejectionLog
@@ -102,8 +103,12 @@ class MpcControllerNode(Node):
                               (0.0, 1000.0)),
             'stale_timeout': (0.3, 'references older than this make it hold a stance (s)',
                               (0.02, 10.0)),
-            'reference_wait': (0.1, 'wall time a period waits for its reference (s)',
+            'reference_wait': (0.1, 'wall time a period waits for its reference (s); longer, up '
+                               'to reference_hung_timeout, while the reference generator\'s '
+                               'process is alive (DDS liveliness of reference_trajectory/alive)',
                                (0.0, 5.0)),
+            'reference_hung_timeout': (5.0, 'wall time a period waits for the reference of a '
+                                       'live reference generator (s)', (0.0, 600.0)),
             'sensor_timeout': (0.1, 'a sensor without a valid message for this long makes it '
                                'hold a stance (s)', (0.0, 10.0)),
             'sensor_loss_timeout': (0.5, 'wall time without joint_states after which it reports '
@@ -158,6 +163,7 @@ class MpcControllerNode(Node):
         self._last_command = None
         self._started = False
         self._command_pub = self.create_publisher(JointState, 'joint_commands', 10)
+        self._alive = LivelinessToken(self, 'joint_commands')  # lockstep waits while it lives
         self._diag_pub = self.create_publisher(ControllerDiagnostics, 'controller_diagnostics',
                                                10)
         self._soles_pub = self.create_publisher(PoseArray, 'sole_poses', 10)
@@ -181,6 +187,8 @@ class MpcControllerNode(Node):
         self._wait_timer = self.create_timer(float(get('reference_wait')), self._on_wait_timer,
                                              clock=steady)
         self._wait_timer.cancel()
+        self._wait_start = None  # wall time the pending period started waiting
+        self._reference_process = LivelinessWatch(self, 'reference_trajectory')
         self.create_timer(WATCHDOG_PERIOD, self._on_watchdog, clock=steady)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
                                f'{self._params.mpc.n_predict})')
@@ -257,6 +265,7 @@ class MpcControllerNode(Node):
         self._pending = stamp_seconds_of(self._period)
         self._try_cycle()
         if self._pending is not None:
+            self._wait_start = time.monotonic()
             self._wait_timer.reset()  # from now: run it after reference_wait without it
 
     def _try_cycle(self, force: bool = False) -> None:
@@ -275,6 +284,15 @@ class MpcControllerNode(Node):
             self._control_cycle()
 
     def _on_wait_timer(self) -> None:
+        """reference_wait is over: a live reference generator is slow, not gone, and the
+        period keeps waiting for it (so a loaded machine does not change the run)."""
+        waited = time.monotonic() - (self._wait_start or 0.0)
+        if self._pending is not None and self._reference_process.alive and \
+                waited < self.get_parameter('reference_hung_timeout').value:
+            self.get_logger().warning(
+                f'period t={self._pending:.3f} s waits for reference_trajectory: the reference '
+                f'generator is alive but late ({waited:.1f} s)', throttle_duration_sec=2.0)
+            return  # the timer fires again in reference_wait
         self._wait_timer.cancel()
         self._try_cycle(force=True)
 

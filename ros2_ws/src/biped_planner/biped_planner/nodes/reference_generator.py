@@ -38,6 +38,7 @@ from biped_planner.footsteps import feet_beside
 from biped_planner.input_watch import InputWatch
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
+from biped_planner.node_support.liveliness import LivelinessToken
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
@@ -91,6 +92,7 @@ class ReferenceGeneratorNode(Node):
         self._watch = InputWatch(('walking_state',), timeout=float(get('state_timeout')))
         self._stale = ()
         self._pub = self.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+        self._alive = LivelinessToken(self, 'reference_trajectory')  # the controller waits for it
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)

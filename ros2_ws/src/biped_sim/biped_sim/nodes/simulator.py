@@ -16,8 +16,11 @@ control period only when the command answering the last sensor time has arrived,
 deterministic and as fast as the graph allows; with no controller it advances in real time.
 Real-time mode (lockstep false) always advances at real_time_factor, for watching in the GUI.
 
-Safety: a controller silent for lockstep_timeout of wall time is lost (reported ERROR on
-diagnostics, naming joint_commands): the robot's safe mode holds its last commanded joint
+Safety: a controller silent for lockstep_timeout of wall time is reported (WARN on diagnostics,
+naming joint_commands). While its process is alive (DDS liveliness of joint_commands/alive,
+biped_planner.node_support.liveliness) lockstep waits for it, so a loaded machine slows the run
+but never changes it; a controller whose process is gone, one without that token, or one silent
+for hung_controller_timeout is lost (ERROR): the robot's safe mode holds its last commanded joint
 positions with the servos, and the clock runs in real time until commands come again.
 Commands with NaN / inf, past a joint limit by more than command_margin, with unknown joints,
 mismatched lengths or a stamp ahead of the simulation are refused (logged) and the previous
@@ -41,6 +44,7 @@ from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import Trigger
 
 from biped_planner.node_support.dataclass_parameters import declare_node_parameters
+from biped_planner.node_support.liveliness import LivelinessWatch
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_sim.camera_view import CameraView
@@ -123,6 +127,8 @@ class SimulatorNode(Node):
         self._com_pub = self.create_publisher(PointStamped, 'com', 10)
         self._command_sub = self.create_subscription(JointState, 'joint_commands',
                                                      self._on_command, 10)
+        self._controller_process = LivelinessWatch(self, 'joint_commands')
+        self._waiting_reported = False  # a late, live controller is on diagnostics
         self.create_subscription(OccupancyGridMsg, 'map', self._on_map, LATCHED_IN)
         self.create_service(Push, 'push', self._on_push)
         # internal: the state machine's user-facing reset calls it and re-initialises the rest
@@ -227,6 +233,9 @@ class SimulatorNode(Node):
             self._publish_diagnostics()
         self._last_command_wall = time.monotonic()
         self._last_command_stamp = stamp
+        if self._waiting_reported:
+            self._waiting_reported = False
+            self._publish_diagnostics()
         if now < self._hold_until:
             self.get_logger().info(f'reset: the servos hold the standing pose until '
                                    f't={self._hold_until:.2f} s', throttle_duration_sec=5.0)
@@ -258,6 +267,10 @@ class SimulatorNode(Node):
                         self._last_step_wall)
         if silent < timeout:
             return
+        if self._controller_seen and self._controller_process.alive and \
+                silent < float(self.get_parameter('hung_controller_timeout').value):
+            self._report_waiting(silent)  # slow, not dead: the run waits for it
+            return
         if self._controller_seen:
             self._lose_controller(silent)
         else:
@@ -265,6 +278,14 @@ class SimulatorNode(Node):
                                       f'{silent:.2f} s: stepping with the last one',
                                       throttle_duration_sec=5.0)
         self._step()
+
+    def _report_waiting(self, silent: float) -> None:
+        self.get_logger().warning(
+            f'lockstep waits for joint_commands at t={self._now():.2f} s: the controller is '
+            f'alive but has not answered for {silent:.1f} s', throttle_duration_sec=2.0)
+        if not self._waiting_reported:
+            self._waiting_reported = True
+            self._publish_diagnostics()
 
     def _lose_controller(self, silent: float) -> None:
         """The robot's safe mode: the servos hold the last commanded positions, at rest."""
@@ -281,6 +302,9 @@ class SimulatorNode(Node):
             level, message = DiagnosticStatus.ERROR, (
                 'no valid joint_commands: controller lost; holding the last joint positions, '
                 'running in real time')
+        elif self._waiting_reported:
+            level, message = DiagnosticStatus.WARN, (
+                'lockstep waits for joint_commands: the controller is alive but late')
         elif self._controller_seen:
             level, message = DiagnosticStatus.OK, 'joint_commands arrive'
         else:

@@ -48,8 +48,13 @@ SIMULATOR_PARAMETERS = {
                                    'parts of a period with interpolated setpoints (servo ramp)'),
     'lockstep': (True, 'physics waits for the command answering the last sensor time', None),
     'lockstep_timeout': (0.5, 'wall time without a command after which the controller is '
-                         'lost: the servos hold its last positions, the clock runs in real time '
-                         '(s)', (0.01, 60.0)),
+                         'reported late; one whose process is gone (DDS liveliness of '
+                         'joint_commands/alive), or without that token, is then lost: the servos '
+                         'hold its last positions, the clock runs in real time (s)',
+                         (0.01, 60.0)),
+    'hung_controller_timeout': (10.0, 'wall time without a command after which a controller '
+                                'whose process is alive is lost all the same (hung) (s)',
+                                (0.1, 3600.0)),
     'command_margin': (0.1, 'how far past a joint limit a commanded position may be (rad)',
                        (0.0, 3.2)),
     'max_command_velocity': (1000.0, 'largest feed-forward joint speed of a command (rad/s)',
@@ -85,7 +90,7 @@ SIMULATOR_PARAMETERS = {
 
 
 # Read at start only (declared read-only): the rest can change while running.
-LIVE_PARAMETERS = ('lockstep', 'lockstep_timeout', 'real_time_factor', 'setpoint_parts',
+LIVE_PARAMETERS = ('lockstep', 'lockstep_timeout', 'hung_controller_timeout', 'real_time_factor', 'setpoint_parts',
                    'command_margin',
                    'max_command_velocity', 'reset_hold', 'start_x', 'start_y', 'start_yaw')
 READ_ONLY = tuple(name for name in SIMULATOR_PARAMETERS if name not in LIVE_PARAMETERS)
