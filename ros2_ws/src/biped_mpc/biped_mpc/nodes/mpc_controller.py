@@ -36,6 +36,7 @@ COMAN-like robot shipped with this package by default), its URDF for ik=pinocchi
 urdf_file.
 """
 import dataclasses
+import math
 import time
 
 from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory, WalkingState
@@ -107,8 +108,9 @@ class MpcControllerNode(Node):
                                'to reference_hung_timeout, while the reference generator\'s '
                                'process is alive (DDS liveliness of reference_trajectory/alive)',
                                (0.0, 5.0)),
-            'reference_hung_timeout': (5.0, 'wall time a period waits for the reference of a '
-                                       'live reference generator (s)', (0.0, 600.0)),
+            'reference_hung_timeout': (1.0, 'a live reference generator that has sent nothing for '
+                                       'this wall time is not waited for beyond reference_wait '
+                                       '(s)', (0.0, 600.0)),
             'sensor_timeout': (0.1, 'a sensor without a valid message for this long makes it '
                                'hold a stance (s)', (0.0, 10.0)),
             'sensor_loss_timeout': (0.5, 'wall time without joint_states after which it reports '
@@ -187,7 +189,7 @@ class MpcControllerNode(Node):
         self._wait_timer = self.create_timer(float(get('reference_wait')), self._on_wait_timer,
                                              clock=steady)
         self._wait_timer.cancel()
-        self._wait_start = None  # wall time the pending period started waiting
+        self._reference_arrival = None  # wall time the last valid reference arrived
         self._reference_process = LivelinessWatch(self, 'reference_trajectory')
         self.create_timer(WATCHDOG_PERIOD, self._on_watchdog, clock=steady)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
@@ -221,6 +223,7 @@ class MpcControllerNode(Node):
             self._reject('reference_trajectory', error)
             return
         self._supervisor.set_reference(reference)
+        self._reference_arrival = time.monotonic()
         self._try_cycle()
 
     def _accept(self, topic: str, msg) -> bool:
@@ -265,7 +268,6 @@ class MpcControllerNode(Node):
         self._pending = stamp_seconds_of(self._period)
         self._try_cycle()
         if self._pending is not None:
-            self._wait_start = time.monotonic()
             self._wait_timer.reset()  # from now: run it after reference_wait without it
 
     def _try_cycle(self, force: bool = False) -> None:
@@ -284,14 +286,17 @@ class MpcControllerNode(Node):
             self._control_cycle()
 
     def _on_wait_timer(self) -> None:
-        """reference_wait is over: a live reference generator is slow, not gone, and the
-        period keeps waiting for it (so a loaded machine does not change the run)."""
-        waited = time.monotonic() - (self._wait_start or 0.0)
+        """reference_wait is over: a live reference generator that is producing is slow, not
+        gone, and the period keeps waiting for it (so a loaded machine does not change the run);
+        one that has sent nothing for reference_hung_timeout is not waited for."""
+        since = math.inf if self._reference_arrival is None else \
+            time.monotonic() - self._reference_arrival
         if self._pending is not None and self._reference_process.alive and \
-                waited < self.get_parameter('reference_hung_timeout').value:
+                since < self.get_parameter('reference_hung_timeout').value:
             self.get_logger().warning(
                 f'period t={self._pending:.3f} s waits for reference_trajectory: the reference '
-                f'generator is alive but late ({waited:.1f} s)', throttle_duration_sec=2.0)
+                f'generator is alive but late ({since:.1f} s since its last)',
+                throttle_duration_sec=2.0)
             return  # the timer fires again in reference_wait
         self._wait_timer.cancel()
         self._try_cycle(force=True)
