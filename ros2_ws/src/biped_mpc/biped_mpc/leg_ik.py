@@ -26,7 +26,7 @@ import numpy as np
 from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.leg_kinematics import LegKinematics
 from biped_mpc.robot_model import LegGeometry
-from biped_mpc.validation import validated_pose
+from biped_mpc.validation import finite_array, validated_pose
 from biped_planner.rotations import rotation_x, rotation_y
 from biped_planner.sides import LEFT, RIGHT
 
@@ -177,9 +177,7 @@ class AnalyticLegIk:
         :param pelvis_rotation: (3, 3) pelvis orientation.
         :raises InputError: for wrong shapes or NaN/inf.
         """
-        q = np.asarray(q, dtype=float)
-        if q.shape != (12,):
-            raise InputError('q has shape %s, expected (12,)' % (q.shape,))
+        q = finite_array('q', q, (12,))
         left = self.forward_leg(LEFT, q[:6], pelvis_position, pelvis_rotation)
         right = self.forward_leg(RIGHT, q[6:], pelvis_position, pelvis_rotation)
         return left + right

@@ -21,7 +21,7 @@ from scipy.linalg import lapack
 
 from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.leg_ik import IK_CLIPPED, IK_REACHABLE, LegIkSolution
-from biped_mpc.validation import check_integer, validated_pose
+from biped_mpc.validation import check_integer, finite_array, validated_pose
 from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.sides import SIDES
 
@@ -194,16 +194,8 @@ class PinocchioLegIk:
         return best_q.copy(), status, iteration
 
     def forward(self, q, pelvis_position=(0.0, 0.0, 0.0), pelvis_rotation=np.eye(3)) -> tuple:
-        """Return (left position, left rotation, right position, right rotation) of 12 angles.
-
-        :param q: (12,) leg angles, left then right (rad).
-        :param pelvis_position: (3,) pelvis position (m).
-        :param pelvis_rotation: (3, 3) pelvis orientation.
-        :raises InputError: for wrong shapes or NaN/inf.
-        """
-        q = np.asarray(q, dtype=float)
-        if q.shape != (12,) or not np.all(np.isfinite(q)):
-            raise InputError('q = %r must be 12 finite angles' % (q,))
+        """As biped_mpc.leg_ik.AnalyticLegIk.forward, by Pinocchio's kinematics."""
+        q = finite_array('q', q, (12,))
         p, r = validated_pose('pelvis', pelvis_position, pelvis_rotation)
         pelvis = pin.SE3(r, p)
         out = []

@@ -92,6 +92,18 @@ def declare_dataclass_parameters(node: Node, defaults: T, specs: ParameterSpecs,
     return current
 
 
+def declare_live_parameters(node: Node, defaults: T, prefix: str, attribute: str) -> T:
+    """Declare the fields of a dataclass that carries its own specs, and keep
+    node.<attribute> the dataclass of their current values (live changes included).
+
+    :return: the dataclass built from the declared values
+    """
+    value = declare_dataclass_parameters(node, defaults, {}, prefix=prefix,
+                                         on_change=lambda p: setattr(node, attribute, p))
+    setattr(node, attribute, value)
+    return value
+
+
 def _build(cls, node: Node, names, prefix: str, overrides: dict, fixed: dict):
     values = dict(fixed)
     for name in names:

@@ -27,8 +27,8 @@ from biped_planner.errors import (BipedPlannerError, CommandError, FrameError, G
                                   GoalOutsideMapError, MapError, NoPathError,
                                   StartOccupiedError, StartOutsideMapError)
 from biped_planner.footstep_planner import FootstepPlanner, FootstepPlannerParams
-from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
-                                                             declare_node_parameters)
+from biped_planner.node_support.dataclass_parameters import (
+    declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
 from biped_planner.node_support.map_messages import grid_from_msg
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED, LATCHED_IN
@@ -85,12 +85,8 @@ class FootstepPlannerNode(Node):
         stepper_params = declare_dataclass_parameters(
             self, StepperParams(), {}, prefix='teleop.',
             fixed={'limits': StepperParams().limits})
-        self._limits = declare_dataclass_parameters(
-            self, CommandLimits(), {}, prefix='limits.',
-            on_change=lambda p: setattr(self, '_limits', p))
-        self._bounds = declare_dataclass_parameters(
-            self, PoseBounds(), {}, prefix='pose_bounds.',
-            on_change=lambda p: setattr(self, '_bounds', p))
+        declare_live_parameters(self, CommandLimits(), 'limits.', '_limits')
+        declare_live_parameters(self, PoseBounds(), 'pose_bounds.', '_bounds')
         # The step timing written into every plan.
         self._timing = declare_dataclass_parameters(
             self, StepTiming(), {}, on_change=lambda p: setattr(self, '_timing', p))

@@ -36,8 +36,8 @@ from sensor_msgs.msg import JointState
 from biped_planner.errors import BipedPlannerError
 from biped_planner.footsteps import feet_beside
 from biped_planner.input_watch import InputWatch
-from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
-                                                             declare_node_parameters)
+from biped_planner.node_support.dataclass_parameters import (
+    declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
 from biped_planner.node_support.liveliness import LivelinessToken
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
@@ -64,9 +64,7 @@ class ReferenceGeneratorNode(Node):
         super().__init__('reference_generator', **kwargs)
         # Descriptions and ranges come from ReferenceParams' parameter() fields.
         self._reference_params = declare_dataclass_parameters(self, ReferenceParams(), {})
-        self._bounds = declare_dataclass_parameters(
-            self, PoseBounds(), {}, prefix='bounds.',
-            on_change=lambda p: setattr(self, '_bounds', p))
+        declare_live_parameters(self, PoseBounds(), 'bounds.', '_bounds')
         declare_node_parameters(self, {
             'horizon': (90, 'samples per reference (the MPC needs Np = 80)', (2, 10000)),
             'dt': (0.02, 'sample period of the references, the MPC Ts (s)', (0.001, 1.0)),

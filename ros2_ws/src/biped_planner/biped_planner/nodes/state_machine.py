@@ -35,8 +35,8 @@ from std_srvs.srv import Trigger
 from biped_planner.errors import BipedPlannerError, CommandError
 from biped_planner.fall_detector import detect_fall, FallDetectorParams
 from biped_planner.input_watch import InputWatch
-from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
-                                                             declare_node_parameters)
+from biped_planner.node_support.dataclass_parameters import (
+    declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
@@ -72,15 +72,9 @@ class StateMachineNode(Node):
         # Descriptions and ranges come from the dataclasses' parameter() fields.
         params = declare_dataclass_parameters(self, StateMachineParams(), {},
                                               on_change=self._on_timing_change)
-        self._fall_params = declare_dataclass_parameters(
-            self, FallDetectorParams(), {}, prefix='fall.',
-            on_change=lambda p: setattr(self, '_fall_params', p))
-        self._limits = declare_dataclass_parameters(
-            self, CommandLimits(), {}, prefix='limits.',
-            on_change=lambda p: setattr(self, '_limits', p))
-        self._bounds = declare_dataclass_parameters(
-            self, PoseBounds(), {}, prefix='pose_bounds.',
-            on_change=lambda p: setattr(self, '_bounds', p))
+        declare_live_parameters(self, FallDetectorParams(), 'fall.', '_fall_params')
+        declare_live_parameters(self, CommandLimits(), 'limits.', '_limits')
+        declare_live_parameters(self, PoseBounds(), 'pose_bounds.', '_bounds')
         declare_node_parameters(self, NODE_PARAMETERS, read_only=READ_ONLY)
         self._use_planner = bool(self.get_parameter('use_planner').value)
         self._reject = RejectionLog(self.get_logger().warning)
