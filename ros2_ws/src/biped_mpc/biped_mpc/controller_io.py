@@ -1,5 +1,5 @@
 """What the walking controller takes in and gives out each cycle, as plain numpy."""
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
@@ -31,6 +31,10 @@ class ControllerFeedback:
     :param pelvis_position: (3,) pelvis position (m), or None when it is to be estimated from
         the stance feet (pelvis_source 'imu_kinematics')
     :param pelvis_linear_velocity: (3,) pelvis velocity (m/s) or None (diagnostic only)
+    :param foot_wrenches: (2, 6) left and right ankle F/T readings, as a real sensor gives
+        them: the force (N) and torque about the sensor origin (N m) the foot exerts on the leg,
+        in the sensor frame (parallel to the sole frame); None without F/T sensors (the
+        stabilizer then falls back to the feed-forward cycle)
     :raises InputError: for wrong sizes, NaN or inf (NaN allowed in zmp only)
     """
 
@@ -40,6 +44,7 @@ class ControllerFeedback:
     contacts: tuple
     pelvis_position: Optional[np.ndarray] = None
     pelvis_linear_velocity: Optional[np.ndarray] = None
+    foot_wrenches: Optional[np.ndarray] = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, 'leg_joint_positions', finite_vector(
@@ -62,6 +67,10 @@ class ControllerFeedback:
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, finite_vector(f'ControllerFeedback.{name}',
                                                              getattr(self, name), size))
+        if self.foot_wrenches is not None:
+            wrenches = finite_vector('ControllerFeedback.foot_wrenches',
+                                     np.asarray(self.foot_wrenches, dtype=float).reshape(-1), 12)
+            object.__setattr__(self, 'foot_wrenches', wrenches.reshape(2, 6))
 
     def standing_still(self, max_tilt: float, max_speed: float) -> bool:
         """Both feet in contact, the pelvis tilted less than max_tilt (rad) and, when its
@@ -76,7 +85,8 @@ class ControllerFeedback:
         """Build the feedback from simulator readings (duck typed biped_sim SensorReadings).
 
         :param readings: object with joints.position (leg joints first), base, imu, zmp,
-            left_foot.in_contact and right_foot.in_contact
+            left_foot and right_foot (in_contact; sensor_force and sensor_torque, when the
+            robot has F/T sensors)
         :param pelvis_source: 'ground_truth' (base pose and velocity) or 'imu_kinematics'
             (IMU orientation, no position: the controller estimates it)
         :param leg_joint_count: number of leading joint readings that are the legs (12)
@@ -85,11 +95,16 @@ class ControllerFeedback:
         """
         legs = np.asarray(readings.joints.position, dtype=float)[:leg_joint_count]
         contacts = (readings.left_foot.in_contact, readings.right_foot.in_contact)
+        feet = (readings.left_foot, readings.right_foot)
+        wrenches = (np.array([np.concatenate([foot.sensor_force, foot.sensor_torque])
+                              for foot in feet])
+                    if all(hasattr(foot, 'sensor_force') for foot in feet) else None)
         if pelvis_source == PELVIS_GROUND_TRUTH:
             return cls(legs, readings.base.orientation, readings.zmp, contacts,
-                       readings.base.position, readings.base.linear_velocity)
+                       readings.base.position, readings.base.linear_velocity, wrenches)
         if pelvis_source == PELVIS_IMU_KINEMATICS:
-            return cls(legs, readings.imu.orientation, readings.zmp, contacts)
+            return cls(legs, readings.imu.orientation, readings.zmp, contacts,
+                       foot_wrenches=wrenches)
         raise InputError(f'pelvis_source must be {PELVIS_GROUND_TRUTH!r} or '
                          f'{PELVIS_IMU_KINEMATICS!r}, got {pelvis_source!r}')
 
@@ -120,6 +135,18 @@ class ControllerOutput:
     :param stance: (left, right) feet latched on the ground
     :param next_state: (2, 9) the commanded state at t + Ts whose masses give the targets
     :param mpc_result: the MPC's result (plan, predictions), None when the MPC did not run
+    :param zmp_desired: (2,) the stabilizer's desired ZMP: the MPC's ZMP moved by the DCM
+        feedback and clamped to the feet in contact (m); NaN with balance 'open_loop'
+    :param zmp_error: (2,) desired - measured (filtered F/T) ZMP (m); NaN in the air
+    :param dcm_error: (2,) reference - estimated DCM (m)
+    :param foot_torque_errors: (2, 2) left and right measured - desired roll and pitch ground
+        torques in the sole frames (N m)
+    :param foot_contacts: (left, right) contact states of the touchdown detectors
+    :param ankle_offsets: (2, 2) roll and pitch offsets of the sole targets, foot damping (rad)
+    :param vertical_offsets: (2,) height offsets of the sole targets: force difference and
+        vertical drift (m)
+    :param landing_modes: (left, right) swing_landing modes ('swinging', 'seeking', 'landed',
+        'failed'; 'support' for a foot the plan has on the ground)
     """
 
     joint_setpoints: np.ndarray
@@ -143,6 +170,14 @@ class ControllerOutput:
     stance: tuple
     next_state: np.ndarray
     mpc_result: Any = None
+    zmp_desired: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    zmp_error: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    dcm_error: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    foot_torque_errors: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+    foot_contacts: tuple = (False, False)
+    ankle_offsets: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+    vertical_offsets: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    landing_modes: tuple = ('support', 'support')
 
     @property
     def cost(self) -> np.ndarray:

@@ -19,6 +19,12 @@ MODELS = (MODEL_THREE_MASS, MODEL_LIPM)
 FEEDBACKS = (FEEDBACK_ESTIMATOR, FEEDBACK_PREDICTION)
 PELVIS_SOURCES = (PELVIS_GROUND_TRUTH, PELVIS_IMU_KINEMATICS)
 IK_SOLVERS = (IK_ANALYTIC, IK_PINOCCHIO)
+BALANCE_STABILIZER = 'stabilizer'
+BALANCE_OPEN_LOOP = 'open_loop'
+BALANCE_MODES = (BALANCE_STABILIZER, BALANCE_OPEN_LOOP)
+SWING_TARGET_PLANNED = 'planned'
+SWING_TARGET_MASSES = 'masses'
+SWING_TARGETS = (SWING_TARGET_PLANNED, SWING_TARGET_MASSES)
 # The humanoid's MPC tracks torso-relative leg outputs (MpcParams.leg_outputs).
 CONTROLLER_MPC_PARAMS = MpcParams(leg_outputs=LEG_OUTPUTS_TORSO_RELATIVE)
 
@@ -48,6 +54,10 @@ class WalkingControllerParams:
         times the pelvis velocity error (s), [0, 1]; 0 disables it
     :param tilt_gain: posture feedback: the IK's pelvis orientation leans against the measured
         pelvis roll and pitch by tilt_gain times them, [0, 5]; 0 disables it
+
+    The balance fields (balance ... landing_max_extra_depth) configure the stabilizer between
+    the MPC and the IK (biped_mpc.balance.balance_loop); with balance 'open_loop' they are
+    unused and the cycle is the feed-forward one. Each carries its unit and range below.
     :raises ConfigError: naming the field, for a value out of its range or a robot that lacks
         what the chosen IK needs
     """
@@ -71,6 +81,83 @@ class WalkingControllerParams:
                                             high=1.0)
     tilt_gain: float = parameter(0.2, 'posture feedback against the measured roll and pitch',
                                  low=0.0, high=5.0)
+    # --- balance: the stabilizer between the MPC and the IK (biped_mpc.balance)
+    balance: str = parameter(BALANCE_OPEN_LOOP, 'stabilizer (DCM feedback, wrench distribution, '
+                             'foot damping, force difference, drift, contact-aware landing) or '
+                             'open_loop (the feed-forward cycle)', choices=BALANCE_MODES)
+    swing_target: str = parameter(SWING_TARGET_MASSES, 'horizontal swing foot target: planned '
+                                  '(the reference trajectory) or masses (2 leg mass - hip)',
+                                  choices=SWING_TARGETS)
+    dcm_gain: float = parameter(3.0, 'DCM feedback proportional gain k_p (1/s)', low=0.0,
+                                high=50.0)
+    dcm_integral_gain: float = parameter(2.0, 'DCM feedback integral gain k_i (1/s^2)',
+                                         low=0.0, high=100.0)
+    dcm_integral_time_constant: float = parameter(5.0, 'leak time constant of the DCM error '
+                                                  'integral (s)', low=0.01, high=1000.0)
+    dcm_integral_limit: float = parameter(0.05, 'bound of the DCM error integral per axis (m s)',
+                                          low=0.0, high=10.0)
+    com_admittance: float = parameter(0.0, 'COM admittance: the pelvis target moves at this '
+                                      'times the measured - desired ZMP (1/s); 0 disables it',
+                                      low=0.0, high=50.0)
+    com_admittance_time_constant: float = parameter(1.0, 'leak of the COM admittance offset '
+                                                    'back to zero (s)', low=0.01, high=1000.0)
+    com_admittance_limit: float = parameter(0.03, 'largest COM admittance offset per axis (m)',
+                                            low=0.0, high=0.2)
+    ft_cutoff_frequency: float = parameter(15.0, 'low-pass cut-off of the ankle F/T wrenches '
+                                           '(Hz)', low=0.1, high=1000.0)
+    ft_sensor_height: float = parameter(0.04, 'ankle F/T sensor origin above the sole (m)',
+                                        low=0.0, high=0.5)
+    foot_mass: float = parameter(0.75, 'mass of the foot below the F/T sensor (kg)', low=0.0,
+                                 high=20.0)
+    foot_com_height: float = parameter(-0.0275, 'foot centre of mass along the sensor z axis '
+                                       '(m)', low=-0.5, high=0.5)
+    sole_length: float = parameter(0.2, 'sole length (m)', low=0.01, high=1.0)
+    sole_width: float = parameter(0.1, 'sole width (m)', low=0.01, high=1.0)
+    cop_margin: float = parameter(0.01, 'distance the desired CoP keeps from the sole edges (m)',
+                                  low=0.0, high=0.04)
+    wrench_friction: float = parameter(0.7, 'friction coefficient of the wrench distribution '
+                                       'QP, below the real one (1)', low=0.05, high=2.0)
+    wrench_min_force: float = parameter(15.0, 'minimum normal force of a supporting foot in the '
+                                        'wrench distribution (N)', low=0.0, high=1000.0)
+    ankle_damping_gain: float = parameter(0.01, 'foot damping: ankle roll and pitch admittance '
+                                          'on the torque error (rad/(N m s))', low=0.0,
+                                          high=1.0)
+    ankle_damping_rate_limit: float = parameter(0.2, 'largest ankle offset speed (rad/s)',
+                                                low=0.001, high=10.0)
+    ankle_damping_angle_limit: float = parameter(0.15, 'largest ankle offset (rad)', low=0.0,
+                                                 high=0.6)
+    ankle_spring_time_constant: float = parameter(1.0, 'weak spring of the ankle offsets back to '
+                                                  'nominal (s)', low=0.01, high=1000.0)
+    force_difference_gain: float = parameter(1e-4, 'foot force difference admittance '
+                                             '(m/(N s))', low=0.0, high=0.01)
+    force_difference_leak_rate: float = parameter(0.1, 'leak of the feet height difference '
+                                                  '(1/s)', low=0.0, high=100.0)
+    force_difference_max_offset: float = parameter(0.05, 'largest feet height difference (m)',
+                                                   low=0.0, high=0.3)
+    vertical_drift_frequency: float = parameter(1.0, 'vertical drift compensation rate (1/s)',
+                                                low=0.0, high=50.0)
+    vertical_drift_max_offset: float = parameter(0.05, 'largest common feet height offset (m)',
+                                                 low=0.0, high=0.3)
+    touchdown_on_force: float = parameter(50.0, 'normal force above which a foot touches down '
+                                          '(N)', low=0.1, high=5000.0)
+    touchdown_off_force: float = parameter(25.0, 'normal force below which a foot has lifted '
+                                           '(N), below touchdown_on_force', low=0.0,
+                                           high=5000.0)
+    touchdown_dwell_time: float = parameter(0.01, 'time a force crossing must hold to count (s)',
+                                            low=0.0, high=1.0)
+    touchdown_gate_phase: float = parameter(0.5, 'share of the swing after which a touchdown is '
+                                            'accepted (1)', low=0.0, high=1.0)
+    touchdown_gate_distance: float = parameter(0.05, 'largest horizontal distance of the foot '
+                                               'from its landing point for a touchdown (m)',
+                                               low=0.001, high=1.0)
+    contact_aware_landing: bool = parameter(False, 'an early contact stops the swing foot, a late '
+                                            'one makes it keep descending')
+    landing_descent_speed: float = parameter(0.15, 'descent speed of a late swing foot seeking '
+                                             'the ground (m/s)', low=0.01, high=1.0)
+    landing_max_extra_depth: float = parameter(0.06, 'deepest search below the planned landing '
+                                               'height (m)', low=0.0, high=0.3)
+    landing_max_lead: float = parameter(0.003, 'largest distance a seeking swing foot target '
+                                        'runs below the measured sole (m)', low=0.0, high=0.3)
 
     def __post_init__(self) -> None:
         if not isinstance(self.robot, RobotModel):
@@ -82,6 +169,13 @@ class WalkingControllerParams:
                               'use ik = pinocchio for this robot')
         if self.ik == IK_PINOCCHIO and not self.robot.urdf_path:
             raise ConfigError('WalkingControllerParams.ik = pinocchio needs robot.urdf_path')
+        if self.touchdown_off_force >= self.touchdown_on_force:
+            raise ConfigError(f'WalkingControllerParams.touchdown_off_force must be below '
+                              f'touchdown_on_force = {self.touchdown_on_force!r} N, got '
+                              f'{self.touchdown_off_force!r}')
+        if 2.0 * self.cop_margin >= min(self.sole_length, self.sole_width):
+            raise ConfigError(f'WalkingControllerParams.cop_margin must be below half the sole '
+                              f'width, got {self.cop_margin!r}')
         for name, kind in (('mpc', MpcParams), ('estimator', EstimatorParams)):
             if not isinstance(getattr(self, name), kind):
                 raise ConfigError(f'WalkingControllerParams.{name} must be a {kind.__name__}, '

@@ -6,7 +6,7 @@ mass, a swinging foot is 2 * leg mass - hip, a stance foot stays where it was la
 heights and yaws come from the reference window at t + Ts (heights above the stance soles); the
 pelvis is upright at pelvis_height above the stance soles, with the mean heading of the feet.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -38,30 +38,43 @@ class IkTargets:
     :param left_foot: (4,) left sole x, y, z (m), yaw (rad)
     :param right_foot: (4,) right sole x, y, z (m), yaw (rad)
     :param yaw: pelvis heading (rad)
+    :param foot_tilts: (2, 2) left and right sole roll and pitch about the sole's own x and y
+        axes after its yaw (rad): the stabilizer's ankle offsets; zero for flat soles
     """
 
     pelvis: np.ndarray
     left_foot: np.ndarray
     right_foot: np.ndarray
     yaw: float
+    foot_tilts: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
 
 
 def ik_targets(next_state: np.ndarray, feet_next: np.ndarray, support_next: int,
-               stance: StanceFeet, model_hip: ModelHip, pelvis_height: float) -> IkTargets:
+               stance: StanceFeet, model_hip: ModelHip, pelvis_height: float,
+               planned_swing: bool = False) -> IkTargets:
     """Targets of the pelvis and both soles for the commanded next state.
+
+    A swing foot's x and y are 2 * leg mass - hip (the paper), or with planned_swing the
+    reference's own swing trajectory: the leg mass lags its reference (the MPC tracks the legs
+    loosely), and a foot placed from it landed 2 to 3 cm short of its footstep.
 
     :param next_state: (2, 9) commanded state at t + Ts
     :param feet_next: (2, 4) left and right sole x, y, z (height above the stance soles), yaw
-        of the reference at t + Ts (x and y unused: they come from the masses)
+        of the reference at t + Ts (x and y used with planned_swing only)
     :param support_next: the reference's support label at t + Ts
     :param stance: the latched stance feet
     :param model_hip: the pelvis to model hip map
     :param pelvis_height: pelvis above the stance soles (m)
+    :param planned_swing: swing feet x, y from feet_next instead of the masses
     :return: the targets
     """
     hip = next_state[:, state_index(TORSO, POSITION)]
-    swing_feet = feet_targets_from_masses(hip, next_state[:, state_index(LEFT_LEG, POSITION)],
-                                          next_state[:, state_index(RIGHT_LEG, POSITION)])
+    if planned_swing:
+        swing_feet = (feet_next[LEFT][:2], feet_next[RIGHT][:2])
+    else:
+        swing_feet = feet_targets_from_masses(
+            hip, next_state[:, state_index(LEFT_LEG, POSITION)],
+            next_state[:, state_index(RIGHT_LEG, POSITION)])
     latched = stance.latched
     held = stance.held(support_next)
     grounds = [latched[side][2] for side in SIDES if held[side]]

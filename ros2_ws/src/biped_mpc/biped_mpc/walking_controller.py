@@ -29,6 +29,15 @@ returns the 12 leg joint setpoints for the next period:
    (biped_mpc.pelvis_feedback). The setpoint speeds over the period go with the setpoints
    (joint velocity feed-forward), so the servo damps towards the motion, not against it.
 
+7. Balance (balance 'stabilizer', the default; biped_mpc.balance.balance_loop): before the
+   estimate, the ankle F/T readings are filtered (foot inertia removed) into contact states
+   (touchdown detectors, which also latch the stance feet) and the measured ZMP the Kalman
+   filter uses; after the MPC, the Stabilizer compares the estimated DCM with the commanded
+   state's at full gain, distributes the desired wrench between the feet in contact and moves
+   the IK's sole targets (foot damping roll and pitch, force difference and vertical drift
+   heights) and the swing foot's landing (stop on early contact, descend on a late one). With
+   balance 'open_loop' the cycle is the feed-forward one of steps 1-6.
+
 Stance-leg projection (not in the paper): a stance foot does not move, so the state of its leg
 mass is set to half the torso's position, velocity and acceleration plus half the sole, in the
 command and in the estimate (constrained filtering). docs/controller_notes.md records what each
@@ -50,9 +59,12 @@ import numpy as np
 from biped_mpc.controller_io import (
     ControllerFeedback, ControllerOutput, STATUS_IK_CLIPPED, STATUS_IK_ERROR, STATUS_MPC_ERROR,
     STATUS_MPC_FALLBACK, STATUS_OK, STATUS_REFERENCE_ERROR)
+from biped_mpc.balance.balance_loop import (BalanceLoop, BalanceLoopParams, BalanceResult,
+                                            SensedFeet)
+from biped_mpc.balance.stabilizer import StabilizerReference
 from biped_mpc.controller_params import (
-    FEEDBACK_ESTIMATOR, IK_ANALYTIC, MODEL_THREE_MASS, PELVIS_GROUND_TRUTH,
-    PELVIS_IMU_KINEMATICS, WalkingControllerParams)
+    BALANCE_STABILIZER, FEEDBACK_ESTIMATOR, IK_ANALYTIC, MODEL_THREE_MASS, PELVIS_GROUND_TRUTH,
+    PELVIS_IMU_KINEMATICS, SWING_TARGET_PLANNED, WalkingControllerParams)
 from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.ik_targets import ik_targets, IkTargets
 from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE
@@ -69,7 +81,7 @@ from biped_mpc.reference_adapter import cycle_references, CycleReferences
 from biped_mpc.stance_feet import StanceFeet
 from biped_mpc.state_estimator import StateEstimator
 from biped_mpc.three_mass_model import three_mass_model
-from biped_planner.rotations import quaternion_to_matrix, rotation_z
+from biped_planner.rotations import quaternion_to_matrix, rotation_x, rotation_y, rotation_z
 from biped_planner.sides import LEFT, RIGHT, SIDES, SUPPORT_DOUBLE
 
 
@@ -145,6 +157,14 @@ class WalkingController:
         self._n_predict = params.mpc.n_predict
         self._dt = params.mpc.dt
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
+        lipm = LipmParams.from_three_mass(robot.masses)
+        self._omega = math.sqrt(lipm.gravity / lipm.com_height)
+        self._com_height = lipm.com_height
+        self._com_row = self.model.com_row
+        self._com_velocity_row = np.roll(self._com_row, 1)
+        self._balance = (BalanceLoop(BalanceLoopParams.from_controller(
+            params, lipm.mass, lipm.com_height))
+                         if params.balance == BALANCE_STABILIZER else None)
         self._reset_done = False
 
     def reset(self, t: float, feedback: ControllerFeedback) -> None:
@@ -175,8 +195,16 @@ class WalkingController:
         self._command = state
         self._pelvis = pelvis
         self._servo.reset(pelvis)
+        if self._balance is not None:
+            self._balance.reset(soles)
+        self._com_history = []
         self._last_q = feedback.leg_joint_positions.copy()
         self._reset_done = True
+
+    @property
+    def balance_loop(self) -> Optional[BalanceLoop]:
+        """The stabilizer's loop (balance 'stabilizer'), None with balance 'open_loop'."""
+        return self._balance
 
     @property
     def latched_feet(self) -> list:
@@ -203,16 +231,28 @@ class WalkingController:
         pelvis = self._pelvis_position(feedback, rotation)
         soles = self._soles(feedback.leg_joint_positions, pelvis, rotation)
         references = self._references(window)
+        sensed = None
+        if self._balance is not None and feedback.foot_wrenches is not None:
+            sensed = self._balance.sense(t, self._dt, feedback.foot_wrenches, soles,
+                                         window if references is not None else None)
         self._stance.update(None if references is None else references.support_now, soles,
-                            feedback.contacts)
-        estimate = self._estimate(soles, pelvis, rotation, feedback.zmp)
+                            feedback.contacts if sensed is None else sensed.contacts)
+        estimate = self._estimate(soles, pelvis, rotation,
+                                  feedback.zmp if sensed is None else sensed.zmp)
         mpc = self._solve_mpc(estimate.state, references)
+        command = self._command.copy()
         next_state = self._advance(mpc.jerk)
         targets = self._targets(next_state, references, soles)
+        balance = None
+        if sensed is not None:
+            balance = self._stabilize(t, targets, sensed, soles, pelvis, rotation, command,
+                                      estimate.outputs)
+            targets = balance.targets
         ik = self._solve_ik(targets, pelvis, rotation)
         status = (STATUS_OK if references is not None else STATUS_REFERENCE_ERROR) \
             | mpc.status | ik.status
-        return self._output(status, feedback, pelvis, estimate, mpc, next_state, targets, ik)
+        return self._output(status, feedback, pelvis, estimate, mpc, next_state, targets, ik,
+                            sensed, balance)
 
     # ------------------------------------------------------------------ steps of the cycle
     @staticmethod
@@ -320,7 +360,35 @@ class WalkingController:
                                for latch in self._stance.latched]
             support_next = SUPPORT_DOUBLE
         return ik_targets(next_state, feet_next, support_next, self._stance, self._model_hip,
-                          self.params.robot.pelvis_height)
+                          self.params.robot.pelvis_height,
+                          self.params.swing_target == SWING_TARGET_PLANNED)
+
+    def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
+                   pelvis: np.ndarray, rotation: np.ndarray, command: np.ndarray,
+                   outputs: np.ndarray) -> BalanceResult:
+        """The stabilizer on the targets: the commanded state's DCM against the measured one.
+
+        The measured centre of mass is the model's of the measured masses (legs midway between
+        soles and hip, the torso at the model hip); its velocity is the mean over the last two
+        periods, as the pelvis servo's (the one-period difference carries the servos'
+        vibration). The Kalman estimate is not used here: it reads the ZMP the stabilizer
+        itself moves, and fed back through the foot damping it oscillated standing.
+        """
+        omega = self._omega
+        reference = StabilizerReference(
+            zmp=command @ self._zmp_row,
+            dcm=command @ self._com_row + command @ self._com_velocity_row / omega)
+        masses = self.model.masses
+        hip = self._model_hip.of_pelvis(pelvis, rotation)
+        com_xy = (masses[LEFT_LEG] * outputs[:, OUTPUT_LEFT_LEG] + masses[TORSO] * hip
+                  + masses[RIGHT_LEG] * outputs[:, OUTPUT_RIGHT_LEG]) / sum(masses)
+        self._com_history = (self._com_history + [com_xy])[-3:]
+        velocity = ((com_xy - self._com_history[0]) / ((len(self._com_history) - 1) * self._dt)
+                    if len(self._com_history) > 1 else np.zeros(2))
+        dcm = com_xy + velocity / omega
+        com = np.array([com_xy[0], com_xy[1], self._com_height])
+        return self._balance.update(t, self._dt, targets, sensed, soles, pelvis, reference,
+                                    com, dcm)
 
     def _solve_ik(self, targets: IkTargets, pelvis: np.ndarray, rotation: np.ndarray) -> _IkStep:
         """Joint setpoints of the targets, the pelvis moved by the servo and the posture lean."""
@@ -330,8 +398,12 @@ class WalkingController:
             pelvis_rotation = rotation_z(targets.yaw) @ posture_correction(
                 rotation, self.params.tilt_gain)
             left, right = targets.left_foot, targets.right_foot
-            solution = self.ik.solve(pelvis_command, pelvis_rotation, left[:3],
-                                     rotation_z(left[3]), right[:3], rotation_z(right[3]))
+            tilts = targets.foot_tilts
+            solution = self.ik.solve(
+                pelvis_command, pelvis_rotation, left[:3],
+                rotation_z(left[3]) @ rotation_x(tilts[0, 0]) @ rotation_y(tilts[0, 1]),
+                right[:3],
+                rotation_z(right[3]) @ rotation_x(tilts[1, 0]) @ rotation_y(tilts[1, 1]))
             q = np.array(solution.q, dtype=float)
             ik_status = tuple(int(s) for s in solution.status)
             if not np.all(np.isfinite(q)):
@@ -343,10 +415,22 @@ class WalkingController:
 
     def _output(self, status: int, feedback: ControllerFeedback, pelvis: np.ndarray,
                 estimate: _Estimate, mpc: _MpcStep, next_state: np.ndarray,
-                targets: IkTargets, ik: _IkStep) -> ControllerOutput:
+                targets: IkTargets, ik: _IkStep, sensed: Optional[SensedFeet],
+                balance: Optional[BalanceResult]) -> ControllerOutput:
         """The setpoints with their feed-forward speeds, and the cycle's diagnostics."""
         velocities = (ik.q - self._last_q) / self._dt
         self._last_q = ik.q.copy()
+        terms = {}
+        if balance is not None:
+            diagnostics = balance.stabilizer.diagnostics
+            terms = dict(zmp_desired=balance.stabilizer.zmp.copy(),
+                         zmp_error=diagnostics.zmp_error.copy(),
+                         dcm_error=diagnostics.dcm_error.copy(),
+                         foot_torque_errors=diagnostics.torque_errors.copy(),
+                         foot_contacts=tuple(sensed.contacts),
+                         ankle_offsets=balance.stabilizer.ankle_offsets.copy(),
+                         vertical_offsets=balance.stabilizer.vertical_offsets.copy(),
+                         landing_modes=balance.landing_modes)
         return ControllerOutput(
             joint_setpoints=ik.q.copy(), joint_velocities=velocities, status=status,
             mpc_status=mpc.mpc_status, solve_time=mpc.solve_time, state=estimate.state,
@@ -359,4 +443,4 @@ class WalkingController:
             left_foot_target=targets.left_foot, right_foot_target=targets.right_foot,
             pelvis_position=np.asarray(pelvis, dtype=float).copy(),
             stance=self._stance.standing, next_state=next_state.copy(),
-            mpc_result=mpc.result)
+            mpc_result=mpc.result, **terms)

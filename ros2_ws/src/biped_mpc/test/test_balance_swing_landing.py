@@ -49,8 +49,9 @@ def test_late_contact_descends_at_the_bounded_speed_and_stops_at_contact():
     log = walk(SwingLanding(SwingLandingParams(descent_speed=speed)), ground=-0.03)
     seeking = [(t, r.height) for t, r in log if r.mode == SEEKING]
     assert seeking
-    for t, height in seeking:
-        assert height == pytest.approx(-speed * (t - LANDING_TIME), abs=1e-12)
+    for t, height in seeking:  # the bounded speed, at most max_lead below the held sole
+        assert height == pytest.approx(max(-speed * (t - LANDING_TIME), -0.03 - 0.003),
+                                       abs=1e-12)
     kinds = events(log)
     assert kinds[0] == (STRETCH, LANDING_TIME)
     assert kinds[1][0] == RESUME
@@ -84,6 +85,29 @@ def test_missing_ground_reaches_the_max_depth_and_reports_failure():
     assert np.all(np.diff(depths) <= 0.15 * DT + 1e-12)
 
 
+def test_a_seeking_target_stays_within_max_lead_of_a_foot_the_ground_holds():
+    # The detector has not confirmed yet (in_contact False): the ground at -5 mm holds the sole.
+    params = SwingLandingParams(descent_speed=0.15, max_extra_depth=0.06, max_lead=0.003)
+    landing = SwingLanding(params)
+    landing.reset(LANDING_TIME, 0.0)
+    ground, target, heights = -0.005, 0.0, []
+    for k in range(int(round(0.3 / DT))):
+        t = LANDING_TIME + k * DT
+        result = landing.update(t, 0.0, False, max(target, ground))
+        target = result.height
+        heights.append(target)
+    heights = np.array(heights)
+    assert heights.min() == pytest.approx(ground - 0.003)
+    assert np.all(np.diff(heights) <= 1e-15)  # the target never rises again
+    # a free foot (measured = target) follows the bounded speed, as without the bound
+    free = SwingLanding(params)
+    free.reset(LANDING_TIME, 0.0)
+    target = 0.0
+    for k in range(20):
+        target = free.update(LANDING_TIME + k * DT, 0.0, False, target).height
+    assert target == pytest.approx(-0.15 * 19 * DT)
+
+
 def test_contact_on_time_raises_no_event():
     landing = SwingLanding()
     landing.reset(LANDING_TIME, 0.0)
@@ -97,6 +121,8 @@ def test_bad_values_are_refused():
         SwingLandingParams(descent_speed=0.0)
     with pytest.raises(ConfigError):
         SwingLandingParams(max_extra_depth=-0.01)
+    with pytest.raises(ConfigError):
+        SwingLandingParams(max_lead=-0.001)
     with pytest.raises(InputError):
         SupportTimingEvent('late', 0.0)
     with pytest.raises(InputError):

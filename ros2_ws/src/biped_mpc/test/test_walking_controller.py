@@ -112,7 +112,8 @@ def _single_support_time(reference, support):
 
 
 @pytest.mark.parametrize('support', [SUPPORT_LEFT, SUPPORT_RIGHT])
-def test_masses_map_to_pelvis_and_feet_targets(controller, reference, ik, support):
+def test_masses_map_to_pelvis_and_feet_targets(robot, reference, ik, support):
+    controller = WalkingController(WalkingControllerParams(robot=robot))  # swing from masses
     t = _single_support_time(reference, support)
     feedback = standing_feedback(ik)
     controller.reset(t, feedback)
@@ -138,6 +139,20 @@ def test_masses_map_to_pelvis_and_feet_targets(controller, reference, ik, suppor
     # The stance foot stays where it was measured.
     stance_y = HALF_WIDTH if support == SUPPORT_LEFT else -HALF_WIDTH
     np.testing.assert_allclose(stance, [0.0, stance_y, 0.0, 0.0], atol=1e-9)
+
+
+@pytest.mark.parametrize('support', [SUPPORT_LEFT, SUPPORT_RIGHT])
+def test_a_planned_swing_target_aims_at_the_planned_trajectory(robot, reference, ik, support):
+    controller = WalkingController(WalkingControllerParams(robot=robot, swing_target='planned'))
+    t = _single_support_time(reference, support)
+    feedback = standing_feedback(ik)
+    controller.reset(t, feedback)
+    window = reference.sample(t, N_SAMPLES, DT)
+    out = controller.step(t, window, feedback)
+    swing = out.right_foot_target if support == SUPPORT_LEFT else out.left_foot_target
+    swing_window = window.right_foot if support == SUPPORT_LEFT else window.left_foot
+    # The planned sole at t + Ts, not 2 * leg mass - hip (which lags it).
+    np.testing.assert_allclose(swing[:3], swing_window[1], atol=1e-12)
     # Forward kinematics of the setpoints from the commanded pelvis reaches the targets.
     left_p, _, right_p, _ = ik.forward(out.joint_setpoints, out.pelvis_command, np.eye(3))
     np.testing.assert_allclose(left_p, out.left_foot_target[:3], atol=1e-9)

@@ -37,6 +37,8 @@ class PyBulletScenery:
     def add_terrain(self, terrain: Terrain, colour_bins: int = 8) -> list:
         """Build the tiles of a terrain as static boxes, coloured by height.
 
+        A tile of height 0 is no tile: the ground plane is there.
+
         :param terrain: the generated terrain.
         :param colour_bins: number of height colours, >= 1.
         :return: the PyBullet body ids.
@@ -52,7 +54,7 @@ class PyBulletScenery:
         half_side = 0.5 * terrain.tile_side
         ids = []
         for b in range(colour_bins):
-            members = np.flatnonzero(bins == b)
+            members = np.flatnonzero((bins == b) & (heights > 0.0))
             if members.size == 0:
                 continue
             level = (b + 0.5) / colour_bins

@@ -55,6 +55,10 @@ class SwingLandingParams:
                                      'planned landing (m/s)', low=0.01, high=1.0)
     max_extra_depth: float = parameter(0.06, 'deepest search below the planned landing '
                                        'height (m)', low=0.0, high=0.3)
+    max_lead: float = parameter(0.003, 'largest distance the seeking target runs below the '
+                                'measured sole (m): a foot the ground holds is not pushed '
+                                'into it while the touchdown detector confirms', low=0.0,
+                                high=0.3)
 
     def __post_init__(self) -> None:
         validate_fields(self, ConfigError)
@@ -88,7 +92,12 @@ class SwingLanding:
     contact at t_L the target keeps descending below the planned landing height h_L at the
     bounded speed v (IHMC 0.12-0.3 m/s), h(t) = h_L - min(v (t - t_L), d_max), event 'stretch';
     a touchdown then freezes it (event 'resume'); reaching d_max without one is a failure
-    (event 'missed') and the target stays there. A contact on the first update at or after t_L,
+    (event 'missed') and the target stays there. While seeking, the target stays at most
+    max_lead below the measured sole, h(t) >= z_measured - max_lead: a free foot follows the
+    descent (its servo lag is below max_lead at that speed), a foot the ground already holds is
+    pressed by max_lead only while the detector's filter and dwell confirm the contact (without
+    that bound, on flat ground every landing was seen 1-3 cycles late and the stiff leg pushed
+    the robot up by the depth run in that time). A contact on the first update at or after t_L,
     before a 'stretch' was raised, is on time: no event. Call reset at each lift-off.
     """
 
@@ -154,7 +163,8 @@ class SwingLanding:
             elif not self._stretched:
                 event = SupportTimingEvent(STRETCH, self._landing_time)
             self._stretched = True
-            self._height = self._landing_height - depth
+            self._height = max(self._landing_height - depth,
+                               min(float(measured_height) - p.max_lead, self._height))
         extra = max(self._landing_height - self._height, 0.0) if self._mode != SWINGING else 0.0
         return SwingLandingResult(self._height, self._mode, event, extra,
                                   self._mode == FAILED)

@@ -56,4 +56,19 @@ def diagnostics_msg(stamp, status: int, message: str, params, output=None,
             float(v) for v in output.zmp_estimated)
         diag.predicted_zmp_x = [float(output.zmp_predicted[0])]
         diag.predicted_zmp_y = [float(output.zmp_predicted[1])]
+        stabilizer_terms(diag, output)
     return diag
+
+
+def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
+    """The stabilizer's terms of a ControllerOutput, so that a bag shows it work."""
+    def floats(values) -> list:
+        return [float(v) for v in np.asarray(values, dtype=float).reshape(-1)]
+    diag.zmp_desired = floats(output.zmp_desired)
+    diag.zmp_error = floats(output.zmp_error)
+    diag.dcm_error = floats(output.dcm_error)
+    diag.foot_torque_errors = floats(output.foot_torque_errors)
+    diag.foot_contacts = [bool(c) for c in output.foot_contacts]
+    diag.ankle_offsets = floats(output.ankle_offsets)
+    diag.vertical_offsets = floats(output.vertical_offsets)
+    diag.landing_modes = [str(m) for m in output.landing_modes]

@@ -133,15 +133,20 @@ class SensorIntake:
         contacts = tuple(sensors[topic].wrench.force.z > contact_force
                          for topic in ('left_foot_wrench', 'right_foot_wrench'))
         zmp = (sensors['zmp'].point.x, sensors['zmp'].point.y)
+        wrenches = [[w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z]
+                    for w in (sensors[topic].wrench
+                              for topic in ('left_foot_wrench', 'right_foot_wrench'))]
         if pelvis_source == PELVIS_GROUND_TRUTH:
             odom = sensors['odom']
             pose = odom.pose.pose
             q = pose.orientation
             return ControllerFeedback(
                 legs, (q.x, q.y, q.z, q.w), zmp, contacts,
-                (pose.position.x, pose.position.y, pose.position.z), world_velocity(odom))
+                (pose.position.x, pose.position.y, pose.position.z), world_velocity(odom),
+                foot_wrenches=wrenches)
         q = sensors['imu'].orientation
-        return ControllerFeedback(legs, (q.x, q.y, q.z, q.w), zmp, contacts)
+        return ControllerFeedback(legs, (q.x, q.y, q.z, q.w), zmp, contacts,
+                                  foot_wrenches=wrenches)
 
     # --- checks -----------------------------------------------------------------------------
     def _stamp_problem(self, topic: str, seconds: float) -> Optional[str]:

@@ -90,9 +90,9 @@ SIMULATOR_PARAMETERS = {
 
 
 # Read at start only (declared read-only): the rest can change while running.
-LIVE_PARAMETERS = ('lockstep', 'lockstep_timeout', 'hung_controller_timeout', 'real_time_factor', 'setpoint_parts',
-                   'command_margin',
-                   'max_command_velocity', 'reset_hold', 'start_x', 'start_y', 'start_yaw')
+LIVE_PARAMETERS = ('lockstep', 'lockstep_timeout', 'hung_controller_timeout', 'real_time_factor',
+                   'setpoint_parts', 'command_margin', 'max_command_velocity', 'reset_hold',
+                   'start_x', 'start_y', 'start_yaw')
 READ_ONLY = tuple(name for name in SIMULATOR_PARAMETERS if name not in LIVE_PARAMETERS)
 
 

@@ -1,0 +1,345 @@
+"""The stabilizer in the controller's cycle: F/T wrenches, contacts, landing, target offsets.
+
+The walking controller (biped_mpc.walking_controller) calls, every control period,
+
+1. sense: each ankle F/T reading (what a real sensor gives: the wrench of the foot on the leg
+   in the sensor frame) becomes the ground reaction about the sole centre with the foot's
+   weight and inertia removed (ft_filter, the foot acceleration from the second difference of
+   the measured sole positions), low-passed; the touchdown detectors turn the normal forces
+   into contact states, gated by the plan's swing (late in the swing, near the landing
+   point); the filtered centre of pressure of the feet in contact is the measured ZMP;
+2. update: the Stabilizer (DCM feedback at full gain around the MPC's commanded state,
+   wrench distribution, foot damping, foot force difference, vertical drift) and the
+   contact-aware landing (swing_landing) turn the IK targets of the MPC into stabilized ones:
+   sole roll and pitch offsets, sole height offsets, a swing foot that stops where it met the
+   ground or keeps descending after its planned landing, and the pelvis moved by the COM
+   admittance (measured - desired ZMP).
+
+The joint servos stay stiff: only the references move.
+"""
+from dataclasses import dataclass, replace
+import math
+from typing import Optional
+
+import numpy as np
+
+from biped_mpc.balance.dcm_feedback import DcmFeedbackParams
+from biped_mpc.balance.foot_damping import FootDampingParams
+from biped_mpc.balance.foot_force_difference import FootForceDifferenceParams
+from biped_mpc.balance.ft_filter import cop_of_feet, FootWrenchFilter, FtFilterParams
+from biped_mpc.balance.stabilizer import (
+    Stabilizer, StabilizerMeasurement, StabilizerOutput, StabilizerParams, StabilizerReference)
+from biped_mpc.balance.swing_landing import (
+    FAILED, LANDED, SEEKING, SwingLanding, SwingLandingParams)
+from biped_mpc.balance.touchdown_detector import TouchdownDetector, TouchdownParams
+from biped_mpc.balance.vertical_drift import VerticalDriftParams
+from biped_mpc.balance.wrench_distribution import WrenchDistributionParams
+from biped_mpc.ik_targets import IkTargets
+from biped_mpc.stance_feet import on_support
+from biped_planner.rotations import yaw_of_matrix
+from biped_planner.sides import SIDES
+
+PLANNED_SUPPORT = 'support'
+
+
+@dataclass(frozen=True)
+class BalanceLoopParams:
+    """Parameters of the balance loop (the controller builds them from its flat fields).
+
+    :param stabilizer: the Stabilizer's modules
+    :param ft: foot below the sensor and the wrench low-pass
+    :param touchdown: contact thresholds and gates
+    :param landing: descent after a late planned landing
+    :param ft_sensor_height: F/T sensor origin above the sole centre, along the sole z (m)
+    :param contact_aware_landing: stop early feet, lower late ones
+    :param com_admittance: pelvis target speed per metre of measured - desired ZMP (1/s)
+    :param com_admittance_time_constant: leak of that offset (s)
+    :param com_admittance_limit: largest offset per axis (m)
+    """
+
+    stabilizer: StabilizerParams
+    ft: FtFilterParams
+    touchdown: TouchdownParams
+    landing: SwingLandingParams
+    ft_sensor_height: float = 0.04
+    contact_aware_landing: bool = True
+    com_admittance: float = 0.0
+    com_admittance_time_constant: float = 1.0
+    com_admittance_limit: float = 0.03
+
+    @classmethod
+    def from_controller(cls, params, mass: float, com_height: float) -> 'BalanceLoopParams':
+        """The loop's parameters from the controller's flat fields.
+
+        :param params: biped_mpc.controller_params.WalkingControllerParams (duck typed)
+        :param mass: total mass of the robot (kg)
+        :param com_height: LIPM centre-of-mass height (m)
+        :return: the parameters
+        """
+        p = params
+        damping = FootDampingParams(
+            roll_gain=p.ankle_damping_gain, pitch_gain=p.ankle_damping_gain,
+            spring_time_constant=p.ankle_spring_time_constant,
+            rate_limit=p.ankle_damping_rate_limit, angle_limit=p.ankle_damping_angle_limit)
+        stabilizer = StabilizerParams(
+            mass=mass,
+            dcm=DcmFeedbackParams(
+                com_height=com_height, proportional_gain=p.dcm_gain,
+                integral_gain=p.dcm_integral_gain,
+                integral_time_constant=p.dcm_integral_time_constant,
+                integral_limit=p.dcm_integral_limit),
+            distribution=WrenchDistributionParams(
+                friction=p.wrench_friction, min_force=p.wrench_min_force,
+                sole_length=p.sole_length, sole_width=p.sole_width, cop_margin=p.cop_margin),
+            damping=damping,
+            force_difference=FootForceDifferenceParams(
+                gain=p.force_difference_gain, leak_rate=p.force_difference_leak_rate,
+                max_offset=p.force_difference_max_offset),
+            vertical_drift=VerticalDriftParams(frequency=p.vertical_drift_frequency,
+                                               max_offset=p.vertical_drift_max_offset))
+        return cls(
+            stabilizer=stabilizer,
+            ft=FtFilterParams(foot_mass=p.foot_mass, foot_com=(0.0, 0.0, p.foot_com_height),
+                              cutoff_frequency=p.ft_cutoff_frequency),
+            touchdown=TouchdownParams(
+                on_force=p.touchdown_on_force, off_force=p.touchdown_off_force,
+                dwell_time=p.touchdown_dwell_time, gate_phase=p.touchdown_gate_phase,
+                gate_distance=p.touchdown_gate_distance),
+            landing=SwingLandingParams(descent_speed=p.landing_descent_speed,
+                                       max_extra_depth=p.landing_max_extra_depth,
+                                       max_lead=p.landing_max_lead),
+            ft_sensor_height=p.ft_sensor_height, contact_aware_landing=p.contact_aware_landing,
+            com_admittance=p.com_admittance,
+            com_admittance_time_constant=p.com_admittance_time_constant,
+            com_admittance_limit=p.com_admittance_limit)
+
+
+@dataclass(frozen=True)
+class SensedFeet:
+    """The feet as the balance loop measures them.
+
+    :param wrenches: (left, right) filtered ground reactions (ft_filter.FootWrench)
+    :param contacts: (left, right) touchdown detector states
+    :param zmp: (2,) filtered CoP of the feet in contact (m), NaN when none is
+    """
+
+    wrenches: tuple
+    contacts: tuple
+    zmp: np.ndarray
+
+
+@dataclass(frozen=True)
+class BalanceResult:
+    """The stabilized IK targets and what the node can publish about them.
+
+    :param targets: the IK targets with the offsets applied
+    :param stabilizer: the Stabilizer's output of the cycle
+    :param landing_modes: (left, right) swing_landing mode, or 'support'
+    """
+
+    targets: IkTargets
+    stabilizer: StabilizerOutput
+    landing_modes: tuple
+
+
+class _Swing:
+    """One foot's planned swing: lift-off time, landing time and point (world)."""
+
+    def __init__(self, start: float, landing_time: float, landing_point: np.ndarray) -> None:
+        self.start = start
+        self.landing_time = landing_time
+        self.landing_point = landing_point
+        self.frozen: Optional[np.ndarray] = None  # where an early or late contact stopped it
+        self.lifted = False  # the detector saw the foot leave the ground: contacts now count
+
+    def phase(self, t: float) -> float:
+        duration = self.landing_time - self.start
+        return 1.0 if duration <= 0.0 else min(max((t - self.start) / duration, 0.0), 1.0)
+
+
+def planned_landing(window, side: int, t: float, dt: float) -> Optional[tuple]:
+    """The next planned landing of a foot in a reference window sampled at t, t + dt, ...
+
+    :param window: reference window (duck typed: support (N,), left_foot, right_foot (N, 3))
+    :param side: LEFT or RIGHT
+    :param t: time of sample 0 (s)
+    :param dt: sample period (s)
+    :return: (landing time (s), landing point (3,): x, y (m), height above the stance soles
+        (m)), or None when the window has no landing of this foot
+    """
+    support = np.asarray(window.support)
+    feet = np.asarray(window.left_foot if side == 0 else window.right_foot, dtype=float)
+    for k in range(1, support.shape[0]):
+        if on_support(side, int(support[k])):
+            return t + k * dt, feet[k].copy()
+    return None
+
+
+class BalanceLoop:
+    """Sense the feet, then stabilize the MPC's IK targets (see the module docstring).
+
+    :param params: the loop's parameters
+    """
+
+    def __init__(self, params: BalanceLoopParams) -> None:
+        self.params = params
+        self.stabilizer = Stabilizer(params.stabilizer)
+        self._filters = tuple(FootWrenchFilter(params.ft) for _ in SIDES)
+        self._detectors = tuple(TouchdownDetector(params.touchdown) for _ in SIDES)
+        self._landings = tuple(SwingLanding(params.landing) for _ in SIDES)
+        self._sensor_offset = np.array([0.0, 0.0, params.ft_sensor_height])
+        self.reset(None)
+
+    def reset(self, soles: Optional[tuple]) -> None:
+        """Standing on both feet: contacts on, integrators and filters zero.
+
+        :param soles: ((position, rotation) left, same right) measured, or None
+        """
+        self.stabilizer.reset()
+        for side in SIDES:
+            self._filters[side].reset()
+            self._detectors[side].reset(True)
+        self._swings = [None, None]
+        self._active = [False, False]  # the landing logic owns the foot's target
+        self._history = [[], []]  # last two measured sole positions, for the acceleration
+        self._com_offset = np.zeros(2)
+        self._last_t = None
+        if soles is not None:
+            self._history = [[soles[side][0].copy()] for side in SIDES]
+
+    @property
+    def contacts(self) -> tuple:
+        """(left, right) contact states of the touchdown detectors."""
+        return tuple(d.in_contact for d in self._detectors)
+
+    def sense(self, t: float, dt: float, foot_wrenches: np.ndarray, soles: tuple,
+              window) -> SensedFeet:
+        """Filter the F/T readings, track the plan's swings, update the contact states.
+
+        :param t: time (s)
+        :param dt: control period (s)
+        :param foot_wrenches: (2, 6) sensor-frame force and torque of the foot on the leg
+        :param soles: measured ((position, rotation) left, same right), world
+        :param window: the reference window of the cycle, or None
+        :return: the filtered wrenches, contacts and measured ZMP
+        """
+        wrenches = []
+        for side in SIDES:
+            position, rotation = soles[side]
+            history = self._history[side]
+            acceleration = np.zeros(3)
+            if len(history) >= 2:
+                acceleration = (position - 2.0 * history[-1] + history[-2]) / (dt * dt)
+            self._history[side] = (history + [position.copy()])[-2:]
+            sensor = position + rotation @ self._sensor_offset
+            wrenches.append(self._filters[side].update(
+                dt, foot_wrenches[side, :3], foot_wrenches[side, 3:], sensor, rotation, position,
+                rotation, acceleration))
+        if window is not None:
+            self._track_swings(t, dt, window, soles)
+        for side in SIDES:
+            swing = self._swings[side]
+            phase = distance = None
+            if swing is not None:
+                phase = swing.phase(t)
+                distance = float(np.linalg.norm(soles[side][0][:2] - swing.landing_point[:2]))
+            self._detectors[side].update(t, wrenches[side].normal_force, phase, distance)
+        contacts = self.contacts
+        for side in SIDES:
+            if self._swings[side] is not None and not contacts[side]:
+                self._swings[side].lifted = True
+        touching = [side for side in SIDES if contacts[side]]
+        zmp = np.full(2, np.nan)
+        if touching:
+            point = np.mean([soles[side][0] for side in touching], axis=0)
+            zmp = cop_of_feet([wrenches[s].force for s in touching],
+                              [wrenches[s].torque for s in touching],
+                              [soles[s][0] for s in touching], point,
+                              min_force=self.params.ft.cop_min_force)[:2]
+        return SensedFeet(tuple(wrenches), contacts, zmp)
+
+    def _track_swings(self, t: float, dt: float, window, soles: tuple) -> None:
+        """Start a swing when the plan lifts a foot; end it when the foot is down again."""
+        support_now = int(np.asarray(window.support)[0])
+        for side in SIDES:
+            swinging = not on_support(side, support_now)
+            swing = self._swings[side]
+            if swinging and swing is None:
+                landing = planned_landing(window, side, t, dt)
+                if landing is None:
+                    continue
+                landing_time, point = landing
+                ground = soles[1 - side][0][2]
+                point = np.array([point[0], point[1], ground + point[2]])
+                self._swings[side] = _Swing(t, landing_time, point)
+                self._landings[side].reset(landing_time, float(point[2]))
+                self._active[side] = True
+            elif not swinging and swing is not None and self._detectors[side].in_contact:
+                self._swings[side] = None
+                self._active[side] = False
+
+    def update(self, t: float, dt: float, targets: IkTargets, sensed: SensedFeet,
+               soles: tuple, pelvis: np.ndarray, reference: StabilizerReference,
+               com: np.ndarray, dcm: np.ndarray) -> BalanceResult:
+        """Stabilize the IK targets of the cycle.
+
+        :param t: time (s)
+        :param dt: control period (s)
+        :param targets: the MPC's IK targets
+        :param sensed: the feet of this cycle (sense)
+        :param soles: measured ((position, rotation) left, same right), world
+        :param pelvis: (3,) measured pelvis position (m)
+        :param reference: the MPC's ZMP and DCM (commanded state)
+        :param com: (3,) estimated centre of mass (m)
+        :param dcm: (2,) estimated DCM (m)
+        :return: the stabilized targets and the diagnostics
+        """
+        feet = [targets.left_foot.copy(), targets.right_foot.copy()]
+        positions = np.array([soles[side][0] for side in SIDES])
+        mean_target = float(np.mean([feet[0][2], feet[1][2]]) - targets.pelvis[2])
+        measured_mean = float(np.mean(positions[:, 2]) - pelvis[2])
+        reference = replace(reference, mean_sole_height=mean_target)
+        measurement = StabilizerMeasurement(
+            com, dcm, sensed.wrenches, sensed.contacts, positions,
+            np.array([yaw_of_matrix(soles[side][1]) for side in SIDES]), measured_mean)
+        output = self.stabilizer.update(dt, reference, measurement)
+        modes = [PLANNED_SUPPORT, PLANNED_SUPPORT]
+        for side in SIDES:
+            feet[side][2] += output.vertical_offsets[side]
+            if self._active[side] and self.params.contact_aware_landing:
+                modes[side] = self._land(t, side, feet[side], sensed, soles)
+        pelvis_target = targets.pelvis.copy()
+        pelvis_target[:2] += self._admittance(dt, sensed.zmp, output.zmp)
+        stabilized = IkTargets(pelvis_target, feet[0], feet[1], targets.yaw,
+                               output.ankle_offsets.copy())
+        return BalanceResult(stabilized, output, tuple(modes))
+
+    def _land(self, t: float, side: int, foot: np.ndarray, sensed: SensedFeet,
+              soles: tuple) -> str:
+        """Contact-aware end of a swing on the foot target (in place); returns the mode."""
+        swing = self._swings[side]
+        landing = self._landings[side].update(t, float(foot[2]),
+                                              sensed.contacts[side] and swing.lifted,
+                                              float(soles[side][0][2]))
+        if landing.mode == LANDED:
+            # Stop where the target was when the ground was met (a jump to the measured sole
+            # would carry the servo lag into the target), at the height of the contact.
+            if swing.frozen is None:
+                swing.frozen = np.array([foot[0], foot[1], landing.height])
+            foot[:3] = swing.frozen
+        elif landing.mode in (SEEKING, FAILED):
+            foot[2] = landing.height
+        return landing.mode
+
+    def _admittance(self, dt: float, measured_zmp: np.ndarray,
+                    desired_zmp: np.ndarray) -> np.ndarray:
+        """COM admittance: the pelvis moves with the ZMP error, leaking back to zero."""
+        p = self.params
+        if p.com_admittance <= 0.0:
+            return self._com_offset
+        error = measured_zmp - desired_zmp
+        decay = math.exp(-dt / p.com_admittance_time_constant)
+        drive = np.zeros(2) if not np.all(np.isfinite(error)) else p.com_admittance * error
+        offset = decay * self._com_offset + p.com_admittance_time_constant * (1.0 - decay) * drive
+        self._com_offset = np.clip(offset, -p.com_admittance_limit, p.com_admittance_limit)
+        return self._com_offset

@@ -1,0 +1,104 @@
+"""The balance loop of the controller (biped_mpc.balance.balance_loop) on hand-made cases."""
+import numpy as np
+import pytest
+
+from biped_mpc.balance.balance_loop import BalanceLoop, BalanceLoopParams, planned_landing
+from biped_mpc.balance.stabilizer import StabilizerReference
+from biped_mpc.controller_params import WalkingControllerParams
+from biped_mpc.errors import ConfigError
+from biped_mpc.ik_targets import IkTargets
+from biped_planner.sides import LEFT, RIGHT, SUPPORT_DOUBLE, SUPPORT_RIGHT
+
+DT = 0.02
+FOOT_MASS = 0.75
+G = 9.81
+
+
+@pytest.fixture
+def loop(coman_like_model):
+    params = WalkingControllerParams(robot=coman_like_model)
+    return BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
+
+
+def flat_soles(x_left=0.0, x_right=0.0):
+    return ((np.array([x_left, 0.07, 0.0]), np.eye(3)), (np.array([x_right, -0.07, 0.0]),
+                                                          np.eye(3)))
+
+
+def sensor_wrench(normal_force, cop_x=0.0, sensor_height=0.04, foot_mass=FOOT_MASS):
+    """What the ankle sensor reads for a ground force through (cop_x, 0) of a still foot:
+    the foot on the leg, f_s = F_g - m g, tau_s about the sensor (sole 0.04 m below)."""
+    ground = np.array([0.0, 0.0, normal_force])
+    force = ground - foot_mass * np.array([0.0, 0.0, G])
+    arm = np.array([cop_x, 0.0, -sensor_height])  # CoP from the sensor origin
+    com_arm = np.array([0.0, 0.0, -0.0275])
+    torque = np.cross(arm, ground) + np.cross(com_arm, -foot_mass * np.array([0.0, 0.0, -G]))
+    return np.concatenate([force, torque])
+
+
+class Window:
+    """A reference window: right foot swinging from sample 0, landing at sample k."""
+
+    def __init__(self, n=30, landing=20, x_landing=0.1):
+        self.support = np.array([SUPPORT_RIGHT] * landing + [SUPPORT_DOUBLE] * (n - landing))
+        self.left_foot = np.tile([0.0, 0.07, 0.0], (n, 1))
+        self.right_foot = np.tile([0.0, -0.07, 0.0], (n, 1))
+        self.left_foot[:, 0] = np.minimum(np.arange(n) / landing, 1.0) * x_landing
+        self.left_foot[landing:, 2] = 0.0
+
+
+def test_planned_landing_is_the_first_support_sample():
+    window = Window(landing=20)
+    landing = planned_landing(window, LEFT, 1.0, DT)
+    assert landing[0] == pytest.approx(1.0 + 20 * DT)
+    np.testing.assert_allclose(landing[1], [0.1, 0.07, 0.0])
+    assert planned_landing(window, RIGHT, 1.0, DT)[0] == pytest.approx(1.0 + DT)
+
+
+def test_the_sensor_wrench_becomes_the_ground_reaction_and_its_cop(loop):
+    soles = flat_soles()
+    wrenches = np.array([sensor_wrench(150.0, 0.03), sensor_wrench(150.0, -0.01)])
+    sensed = loop.sense(0.0, DT, wrenches, soles, None)
+    # The foot's weight is added back: the ground pushes 150 N on each foot.
+    assert sensed.wrenches[LEFT].normal_force == pytest.approx(150.0)
+    np.testing.assert_allclose(sensed.wrenches[LEFT].cop[:2], [0.03, 0.07], atol=1e-9)
+    # Both feet in contact: the ZMP is the force-weighted mean of the CoPs.
+    np.testing.assert_allclose(sensed.zmp, [0.01, 0.0], atol=1e-9)
+    assert sensed.contacts == (True, True)
+
+
+def test_a_foot_in_the_air_reads_no_contact_after_the_dwell_and_no_zmp(loop):
+    soles = flat_soles()
+    air = sensor_wrench(0.0)
+    for k in range(3):
+        sensed = loop.sense(k * DT, DT, np.array([air, sensor_wrench(300.0)]), soles, None)
+    assert sensed.contacts == (False, True)
+    np.testing.assert_allclose(sensed.zmp, [0.0, -0.07], atol=1e-9)
+
+
+def test_stabilized_targets_tilt_a_sole_whose_cop_sits_off_its_centre(loop):
+    soles = flat_soles()
+    targets = IkTargets(np.array([0.0, 0.0, 0.54]), np.array([0.0, 0.07, 0.0, 0.0]),
+                        np.array([0.0, -0.07, 0.0, 0.0]), 0.0)
+    reference = StabilizerReference(zmp=np.zeros(2), dcm=np.zeros(2))
+    wrenches = np.array([sensor_wrench(152.0, 0.05), sensor_wrench(152.0, 0.05)])
+    for k in range(10):
+        sensed = loop.sense(k * DT, DT, wrenches, soles, None)
+        result = loop.update(k * DT, DT, targets, sensed, soles, np.array([0.0, 0.0, 0.54]),
+                             reference, np.array([0.0, 0.0, 0.497]), np.zeros(2))
+    # Pressure ahead of the desired CoP: the pitch offset is negative (toes up, heel down),
+    # which moves the CoP back; the rate limit caps it at 0.2 rad/s.
+    pitch = result.targets.foot_tilts[:, 1]
+    assert np.all(pitch < 0.0)
+    assert np.all(pitch >= -0.2 * 10 * DT - 1e-12)
+    np.testing.assert_allclose(result.targets.foot_tilts[:, 0], 0.0, atol=1e-6)
+
+
+def test_controller_balance_fields_are_checked(coman_like_model):
+    with pytest.raises(ConfigError, match='touchdown_off_force'):
+        WalkingControllerParams(robot=coman_like_model, touchdown_on_force=20.0,
+                                touchdown_off_force=30.0)
+    with pytest.raises(ConfigError, match='balance'):
+        WalkingControllerParams(robot=coman_like_model, balance='closed')
+    with pytest.raises(ConfigError, match='cop_margin'):
+        WalkingControllerParams(robot=coman_like_model, cop_margin=0.04, sole_width=0.05)

@@ -1,0 +1,75 @@
+"""Late and early touchdowns walked through in PyBullet (biped_sim.terrain_trial).
+
+Two steps of 0.2 m; the left foot's lane changes height just ahead of its toe
+(terrain_trial.lane_step_terrain), so its first landing meets the ground 20 mm below the
+plan (late touchdown) or 15 mm above it (early touchdown). The references are blind (flat).
+
+The two walk-throughs are marked xfail: each passed in a run of several trials on one
+backend and failed on a fresh one (docs/simulator_notes.md): the landing works step by step
+but the walk after it is marginal.
+"""
+import pytest
+
+from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.robot_description import coman_like
+from biped_sim.terrain_trial import lane_step_terrain, run_trial
+
+
+@pytest.fixture(scope='module')
+def robot():
+    return coman_like()
+
+
+@pytest.fixture(scope='module')
+def sim(robot):
+    backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
+    yield backend
+    backend.close()
+
+
+def walk(sim, robot, terrain, contact_aware_landing):
+    controller = WalkingController(WalkingControllerParams(
+        robot=robot.controller_model, balance='stabilizer', swing_target='planned',
+        contact_aware_landing=contact_aware_landing))
+    modes = []
+
+    def on_cycle(t, window, output, readings):
+        modes.append(output.landing_modes[0])
+
+    result = run_trial(sim, controller, 2, 0.2, lane_step_terrain(*terrain),
+                       on_cycle=on_cycle)
+    return result, modes
+
+
+MARGINAL = pytest.mark.xfail(reason='walked through once, fell on a fresh backend: marginal',
+                             strict=False)
+
+
+@MARGINAL
+def test_a_late_touchdown_seeks_the_ground_and_walks_through(sim, robot):
+    result, modes = walk(sim, robot, (-0.02, 0.02), contact_aware_landing=True)
+    assert not result.fallen
+    assert result.max_tilt < 15.0
+    assert 'seeking' in modes and 'landed' in modes
+    assert modes.index('seeking') < modes.index('landed')
+    # the left sole rests on the lowered lane, the right one on the 20 mm platform
+    assert result.log.left_sole[-1, 2] == pytest.approx(0.0, abs=0.005)
+    assert result.log.right_sole[-1, 2] == pytest.approx(0.02, abs=0.005)
+    assert result.log.left_sole[-1, 0] == pytest.approx(0.4, abs=0.05)
+
+
+def test_without_contact_aware_landing_the_late_touchdown_falls(sim, robot):
+    result, _ = walk(sim, robot, (-0.02, 0.02), contact_aware_landing=False)
+    assert result.fallen
+
+
+@MARGINAL
+def test_an_early_touchdown_stops_the_foot_and_walks_through(sim, robot):
+    result, modes = walk(sim, robot, (0.015, 0.0), contact_aware_landing=True)
+    assert not result.fallen
+    assert result.max_tilt < 15.0
+    assert 'landed' in modes
+    # the left sole ends on the raised lane, the right one on the ground
+    assert result.log.left_sole[-1, 2] == pytest.approx(0.015, abs=0.005)
+    assert result.log.right_sole[-1, 2] == pytest.approx(0.0, abs=0.005)
