@@ -15,7 +15,10 @@ Sub-commands (each writes <name>.json and PNG plots into --out):
   of the first step) for 100 ms, forces -300 .. 300 N (paper Fig. disturbance), and a
   bisection for the largest withstood forward and backward push, for the three-mass MPC and
   the LIPM baseline (on the three-mass robot, and on a LIPM robot), with and without noise.
-  "Withstood" is defined in biped_sim.push_recovery.evaluate_push (copied into the JSON).
+  "Withstood" is defined in biped_sim.push_recovery.evaluate_push (copied into the JSON); the
+  paper's own criterion (the fictitious ZMP returns inside the support polygon and the walk
+  completes, biped_sim.push_recovery.evaluate_push_paper) is searched beside it for the
+  three-mass MPC, with the online step adjustment off and on.
 * all: the three.
 
 Usage: .venv/bin/python scripts/experiments/model_experiments.py all
@@ -32,10 +35,12 @@ from biped_mpc.linear_mpc import MpcParams
 from biped_mpc.lipm_model import lipm_model, LipmParams
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_plant import PlantParams
-from biped_sim.model_walk import run_walk, WalkSetup
+from biped_mpc.balance.step_adjuster import OnlineStepAdjusterParams
+from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_sim.model_walk import run_walk, walk, WalkSetup
 from biped_sim.walk_log import optimal_fraction, tracking_rms
 from biped_sim.push_recovery import (
-    evaluate_push, largest_withstood_force, WithstandCriteria)
+    evaluate_push, evaluate_push_paper, largest_withstood_force, WithstandCriteria)
 from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.three_mass_model import three_mass_model, ThreeMassParams
 from biped_planner.footsteps import straight_footsteps
@@ -60,6 +65,11 @@ PUSH_TIME = 1.6
 PUSH_DURATION = 0.1
 SWEEP_FORCES = (-300.0, -200.0, -100.0, 100.0, 200.0, 300.0)
 PLANE_NAMES = ('x', 'y')
+# Step adjustment limits for the paper's 0.8 m steps of 0.8 s single support (the model has no
+# legs to bound them): 0.3 m beyond the nominal step forward, back to 0.3 m behind the stance
+# foot, single support 0.4 .. 1.2 s.
+PAPER_STEP_ADJUSTMENT = StepAdjustmentParams(reach_forward=1.1, reach_backward=0.3,
+                                             step_time_min=0.4, step_time_max=1.2)
 
 
 def paper_reference() -> WalkingReference:
@@ -78,14 +88,16 @@ def polygon_margin() -> tuple:
 
 def make_setup(controller: str = 'three_mass', plant: str = 'three_mass', noise: bool = False,
                seed: int = 0, push: ExternalPush = None,
-               mpc: MpcParams = MpcParams()) -> WalkSetup:
-    """A closed-loop configuration of the experiments."""
+               mpc: MpcParams = MpcParams(), adjust: bool = False) -> WalkSetup:
+    """A closed-loop configuration of the experiments (adjust: online step adjustment)."""
     models = {'three_mass': three_mass_model(),
               'lipm': lipm_model(LipmParams.from_three_mass(ThreeMassParams()))}
     return WalkSetup(controller_model=models[controller], plant_model=models[plant], mpc=mpc,
                      plant=PlantParams.paper_noise(seed) if noise else PlantParams(),
                      estimator=EstimatorParams() if noise else None, push=push,
-                     polygon_margin=polygon_margin())
+                     polygon_margin=polygon_margin(),
+                     step_adjuster=OnlineStepAdjusterParams() if adjust else None,
+                     step_adjustment=PAPER_STEP_ADJUSTMENT)
 
 
 def summary(log) -> dict:
@@ -214,12 +226,12 @@ def disturbance(out: Path, args) -> dict:
                                                       'duration_s': PUSH_DURATION,
                                                       'plane': 'sagittal (x)'}}
 
-    def outcome_runner(controller, plant, noisy):
+    def outcome_runner(controller, plant, noisy, adjust=False, judge=evaluate_push):
         def outcome_of(force):
             push = ExternalPush((force, 0.0, 0.0), duration=PUSH_DURATION, start_time=PUSH_TIME)
-            log = run_walk(reference, make_setup(controller, plant, noisy, args.seed, push,
-                                                 mpc))
-            return evaluate_push(log, push, criteria), log
+            log = walk(reference, make_setup(controller, plant, noisy, args.seed, push, mpc,
+                                             adjust)).log
+            return judge(log, push, criteria), log
 
         return outcome_of
 
@@ -239,14 +251,22 @@ def disturbance(out: Path, args) -> dict:
     result['sweep_three_mass_noise'] = sweep
 
     searches = {}
-    for name, controller, plant, noisy in (
-            ('three_mass_mpc_noise', 'three_mass', 'three_mass', True),
-            ('three_mass_mpc_no_noise', 'three_mass', 'three_mass', False),
-            ('lipm_mpc_on_three_mass_robot_noise', 'lipm', 'three_mass', True),
-            ('lipm_mpc_on_three_mass_robot_no_noise', 'lipm', 'three_mass', False),
-            ('lipm_mpc_on_lipm_robot_noise', 'lipm', 'lipm', True),
-            ('lipm_mpc_on_lipm_robot_no_noise', 'lipm', 'lipm', False)):
-        runner = outcome_runner(controller, plant, noisy)
+    strict, paper = evaluate_push, evaluate_push_paper
+    for name, controller, plant, noisy, adjust, judge in (
+            ('three_mass_mpc_noise', 'three_mass', 'three_mass', True, False, strict),
+            ('three_mass_mpc_no_noise', 'three_mass', 'three_mass', False, False, strict),
+            ('three_mass_mpc_noise_step_adjustment', 'three_mass', 'three_mass', True, True,
+             strict),
+            ('three_mass_mpc_noise_paper_criterion', 'three_mass', 'three_mass', True, False,
+             paper),
+            ('three_mass_mpc_noise_step_adjustment_paper_criterion', 'three_mass',
+             'three_mass', True, True, paper),
+            ('lipm_mpc_on_three_mass_robot_noise', 'lipm', 'three_mass', True, False, strict),
+            ('lipm_mpc_on_three_mass_robot_no_noise', 'lipm', 'three_mass', False, False,
+             strict),
+            ('lipm_mpc_on_lipm_robot_noise', 'lipm', 'lipm', True, False, strict),
+            ('lipm_mpc_on_lipm_robot_no_noise', 'lipm', 'lipm', False, False, strict)):
+        runner = outcome_runner(controller, plant, noisy, adjust, judge)
         unpushed_verdict, unpushed = runner(0.0)
         entry = {'unpushed': summary(unpushed), 'unpushed_failures': list(
             unpushed_verdict.failures)}
@@ -265,6 +285,9 @@ def disturbance(out: Path, args) -> dict:
               f'{entry["backward"]["largest_withstood_n"]:+.0f} N', flush=True)
     result['searches'] = searches
     result['paper'] = {'forward_n': 435.0, 'backward_n': -395.0}
+    result['paper_criterion'] = ' '.join(evaluate_push_paper.__doc__.split(':param')[0].split())
+    result['step_adjustment'] = {'adjuster': OnlineStepAdjusterParams().__dict__,
+                                 'qp': PAPER_STEP_ADJUSTMENT.__dict__}
     _write(out / 'disturbance.json', result)
     return result
 

@@ -68,6 +68,23 @@ class ReferenceSession:
     def plan_id(self) -> int:
         return self._reference_plan_id or 0
 
+    @property
+    def plan_revision(self) -> int:
+        """Revision of the walked reference: one more at every extension or step adjustment."""
+        return self._reference.revision if self._reference is not None else 0
+
+    def adjust_step(self, t_now: float, landings: Sequence[Footstep], touchdown: float,
+                    hip: Optional[Sequence[float]] = None,
+                    dcm: Optional[Sequence[float]] = None) -> None:
+        """The step adjuster moved the step under way (WalkingReference.adjust_step).
+
+        :raises ConfigError: when no walk is under way or the adjustment cannot be used; the
+            current reference is kept
+        """
+        if self._reference is None or self._walk_start is None:
+            raise ConfigError('no walk under way to adjust')
+        self._reference = self._reference.adjust_step(t_now, landings, touchdown, hip, dcm)
+
     def set_plan(self, plan_id: int, footsteps: Sequence[Footstep], timing: StepTiming,
                  t_now: float) -> str:
         """A footstep plan arrived.

@@ -7,6 +7,7 @@ Trajectories", sampled at any times the MPC asks for. The pieces: the parameters
 table that samples them (biped_planner.reference_table) and the window handed to the MPC
 (biped_planner.reference_window).
 """
+import math
 from typing import Optional, Sequence, Tuple
 
 import numpy as np
@@ -18,9 +19,11 @@ from biped_planner.input_checks import (check_finite_array, check_integer, check
 from biped_planner.lipm_trajectory import PiecewiseLipm
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_phases import (PHASE_DOUBLE_SUPPORT, PHASE_FINAL_SETTLE,
-                                            PhaseRows, PhaseTable, plan_phases, ReferencePhase)
+                                            PHASE_SINGLE_SUPPORT, PhaseRows, PhaseTable,
+                                            plan_phases, ReferencePhase)
 from biped_planner.reference_table import ReferenceTable
 from biped_planner.reference_window import ReferenceWindow
+from biped_planner.rotations import wrap_angle
 # Support labels and the window, importable from here by the packages that used to find them
 # here; biped_planner.sides and biped_planner.reference_window define them.
 from biped_planner.sides import SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT  # noqa: F401
@@ -100,7 +103,13 @@ class WalkingReference:
         self._lipm = PiecewiseLipm(np.array(rows.knot_times), np.array(rows.knot_zmp),
                                    self._omega, hip0, hip0,
                                    (rows.free_knots[0], rows.free_knots[-1]))
+        self._revision = 0
         self._set_phases(rows, keep=0)
+
+    @property
+    def revision(self) -> int:
+        """Plan revision: 0 as built, one more at every extend or adjust_step that changes it."""
+        return self._revision
 
     @property
     def footsteps(self) -> Tuple[Footstep, ...]:
@@ -238,6 +247,7 @@ class WalkingReference:
         extended._step_timings = self._step_timings[:replace_from - 2] + [timing] * len(
             footsteps)
         extended._t_start = self._t_start
+        extended._revision = self._revision + 1
         old = self._lipm
         if cut is None:
             cut = len(phases)
@@ -259,6 +269,118 @@ class WalkingReference:
         extended._lipm = PiecewiseLipm.concatenate(old, cut_knot, tail)
         extended._set_phases(rows, cut, self)
         return extended
+
+    def single_support_at(self, t: float) -> Optional[int]:
+        """Index into phases of the single support under way at t, None outside single support.
+
+        :param t: time (s)
+        :return: the phase index or None
+        """
+        check_number('t', t)
+        for index, phase in enumerate(self._phases.phases):
+            if phase.t_begin <= t < phase.t_end:
+                return index if phase.kind == PHASE_SINGLE_SUPPORT else None
+        return None
+
+    def adjust_step(self, t_now: float, footsteps: Sequence[Footstep], touchdown: float,
+                    hip: Optional[Sequence[float]] = None,
+                    dcm: Optional[Sequence[float]] = None) -> 'WalkingReference':
+        """A new reference in which the foot swinging now lands elsewhere and at another time.
+
+        The step adjustment's replan, mid single support (extend cannot change a swinging
+        foot). Step k, under way at t_now, lands footsteps[0] at touchdown instead of its
+        planned landing and time; footsteps[1:] replace the later landings, and every later
+        phase keeps its duration. The swing foot's curve keeps its lift-off and is stretched to
+        the new landing and time, so it moves at once towards the new target.
+
+        The hip is replanned from (hip, dcm) at t_now, the robot's state when given (default:
+        this reference's own): the ZMP stays at the stance centre until touchdown, and the
+        free knot of the next double support (the final settle's second one when the step is
+        the last) bends the ZMP so that the hip passes through that state and still ends at
+        rest (start_correction reports the bend). The phases before the current single
+        support are kept; the hip before t_now is the pendulum run backwards from the state,
+        which sampling never asks for.
+
+        :param t_now: current time, inside a single support phase (s)
+        :param footsteps: the new landing of the swinging foot, then the later landings
+        :param touchdown: new end of the single support (s), > t_now
+        :param hip: (2,) hip position at t_now (m), None for this reference's own
+        :param dcm: (2,) DCM hip + hip velocity / omega at t_now (m), with hip
+        :return: the adjusted reference, revision one higher
+        :raises ConfigError: if t_now is not in single support, the footsteps break the
+            convention, the touchdown is not after t_now or hip and dcm are not both given
+        """
+        check_number('t_now', t_now)
+        check_number('touchdown', touchdown, low=t_now, low_open=True, unit=' s')
+        footsteps = tuple(footsteps)
+        cut = self.single_support_at(t_now)
+        if cut is None:
+            raise ConfigError(f't_now={t_now} s is not in a single support phase')
+        if (hip is None) != (dcm is None):
+            raise ConfigError('hip and dcm are given together or not at all')
+        if hip is None:
+            hip, dcm = self._lipm.state_at(t_now)
+        hip = check_finite_array('hip (x, y)', hip, shape=(2,))
+        dcm = check_finite_array('dcm (x, y)', dcm, shape=(2,))
+        phase = self._phases.phases[cut]
+        step = phase.step_index - 1
+        all_footsteps = self._footsteps[:step + 2] + footsteps
+        check_footstep_sequence(all_footsteps)
+        old_timing = self._step_timings[step]
+        timings = self._step_timings[:step] + [
+            StepTiming(single_support=touchdown - phase.t_begin,
+                       double_support=old_timing.double_support)]
+        later = self._step_timings[step + 1:]
+        timings += [later[min(i, len(later) - 1)] if later else old_timing
+                    for i in range(len(all_footsteps) - 3 - step)]
+
+        landed = all_footsteps[step + 2]
+        swing = phase.swing_side
+        yaws = list(self._phases.yaws_at(cut))
+        start = self._phases.feet_start[cut]
+        column = 3 * swing
+        delta = self._phases.feet_delta[cut].copy()
+        delta[column:column + 3] = [landed.x - start[column], landed.y - start[column + 1],
+                                    wrap_angle(landed.yaw - yaws[swing])]
+        yaws[swing] += delta[column + 2]
+        params = self._params
+        landing = self._phases.landing[cut].copy()
+        landing[4 * swing:4 * swing + 4] = [
+            landed.x - params.landing_half_length, landed.y - params.landing_half_width,
+            landed.x + params.landing_half_length, landed.y + params.landing_half_width]
+        after = plan_phases(all_footsteps, timings, params, first_step=step, t_begin=touchdown,
+                            start_zmp=None, stand_until=None, yaws=tuple(yaws))
+        stance = np.asarray(self._lipm.zmp[np.searchsorted(self._lipm.times, phase.t_begin)])
+        rows = PhaseRows(
+            phases=[ReferencePhase(phase.kind, phase.t_begin, touchdown, phase.support,
+                                   phase.step_index, swing)] + after.phases,
+            feet_start=[list(start)] + after.feet_start,
+            feet_delta=[list(delta)] + after.feet_delta,
+            feet_height=[list(self._phases.feet_height[cut])] + after.feet_height,
+            zmp_min=[self._phases.zmp_min[cut]] + after.zmp_min,
+            zmp_max=[self._phases.zmp_max[cut]] + after.zmp_max,
+            landing=[list(landing)] + after.landing,
+            knot_times=[phase.t_begin] + after.knot_times,
+            knot_zmp=[stance] + after.knot_zmp,
+            free_knots=[index + 1 for index in after.free_knots])
+        # the pendulum on the stance centre, run back from t_now to the lift-off knot
+        elapsed = self._omega * (t_now - phase.t_begin)
+        hip_start = stance + (hip - stance) * math.cosh(elapsed) - (dcm - hip) * math.sinh(
+            elapsed)
+        dcm_start = stance + (dcm - stance) * math.exp(-elapsed)
+        tail = PiecewiseLipm(np.array(rows.knot_times), np.array(rows.knot_zmp), self._omega,
+                             hip_start, dcm_start, (rows.free_knots[0], rows.free_knots[-1]))
+        adjusted = WalkingReference.__new__(WalkingReference)
+        adjusted._params = params
+        adjusted._omega = self._omega
+        adjusted._footsteps = all_footsteps
+        adjusted._step_timings = timings
+        adjusted._t_start = self._t_start
+        adjusted._revision = self._revision + 1
+        cut_knot = int(np.searchsorted(self._lipm.times, phase.t_begin))
+        adjusted._lipm = PiecewiseLipm.concatenate(self._lipm, cut_knot, tail)
+        adjusted._set_phases(rows, cut, self)
+        return adjusted
 
     def _set_phases(self, rows: PhaseRows, keep: int,
                     previous: Optional['WalkingReference'] = None) -> None:

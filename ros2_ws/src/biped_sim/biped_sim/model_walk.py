@@ -13,13 +13,18 @@ ClosedLoopRunner's, with the pieces of this level plugged in:
   torso, held over the cycles it covers);
 - :class:`WalkRecorder`, the WalkLog of the run (the model plant cannot fall).
 
-The reference is any object with the WalkingReference sampling method (duck typing).
+The reference is any object with the WalkingReference sampling method (duck typing). With a
+step adjuster in the setup the reference is a WalkingReference walked through an AdjustedWalk:
+each cycle, after its Kalman correction, the controller hands the estimated COM and DCM to the
+adjuster, which may replan the step under way before the MPC samples its window.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
 
+from biped_mpc.balance.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+from biped_mpc.balance.step_adjustment import StepAdjustmentParams
 from biped_mpc.linear_model import LinearModel, N_PLANES, N_STATES, POSITION, state_index
 from biped_mpc.linear_mpc import LinearMpc, MpcParams
 from biped_mpc.reference_adapter import outputs_from_window
@@ -28,6 +33,7 @@ from biped_mpc.state_estimator import EstimatorParams, StateEstimator
 from biped_sim.closed_loop import ClosedLoopParams, ClosedLoopRunner
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_plant import ModelPlant, PlantMeasurement, PlantParams, TorsoPushes
+from biped_sim.reference_sources import AdjustedWalk
 from biped_sim.run_log import trimmed
 from biped_sim.walk_log import WalkLog
 
@@ -45,6 +51,9 @@ class WalkSetup:
     :param settle_time: time simulated after the reference's end (s), >= 0
     :param polygon_margin: margin (x, y) from the scaled support box of the reference to the
         real support polygon, (1 - scale) * (foot length, foot width) / 2 (m)
+    :param step_adjuster: online step adjustment, None (or enabled False) for none
+    :param step_adjustment: the adjustment QP's weights and limits; its com_height is replaced
+        by the controller model's
     """
 
     controller_model: LinearModel
@@ -55,6 +64,8 @@ class WalkSetup:
     push: Optional[ExternalPush] = None
     settle_time: float = 1.0
     polygon_margin: tuple = (0.005, 0.004)
+    step_adjuster: Optional[OnlineStepAdjusterParams] = None
+    step_adjustment: StepAdjustmentParams = StepAdjustmentParams()
 
 
 @dataclass(frozen=True)
@@ -78,11 +89,17 @@ class MpcJerkController:
 
     :param mpc: the MPC (reset by its owner)
     :param setup: the run's setup (its mpc parameters size the reference window)
+    :param source: an AdjustedWalk to hand the estimate to before the MPC, None for none
     """
 
-    def __init__(self, mpc: LinearMpc, setup: WalkSetup) -> None:
+    def __init__(self, mpc: LinearMpc, setup: WalkSetup,
+                 source: Optional[AdjustedWalk] = None) -> None:
         self.mpc = mpc
         self.params = setup
+        self.source = source
+        model = setup.controller_model
+        self._com_rows = (model.com_row, np.roll(model.com_row, 1))
+        self._omega = float(np.sqrt(setup.step_adjustment.gravity / model.com_height))
         self.estimator = None
         if setup.estimator is not None:
             self.estimator = StateEstimator(mpc.discrete_model, setup.estimator)
@@ -93,13 +110,19 @@ class MpcJerkController:
             self.estimator.reset(measurement.state)
 
     def step(self, t: float, window, measurement: PlantMeasurement) -> MpcCycle:
-        """Estimate, solve the MPC on the window's samples 1 .. Np, predict with its jerks."""
+        """Estimate, adjust the step, solve the MPC on the window's samples 1 .. Np, predict
+        with its jerks."""
         mpc = self.mpc
+        estimate = measurement.state if self.estimator is None else self.estimator.correct(
+            measurement.outputs)
+        if self.source is not None:
+            com = estimate @ self._com_rows[0]
+            dcm = com + estimate @ self._com_rows[1] / self._omega
+            if self.source.adjust(t, com, dcm).applied:
+                window = self.source.window(t, len(window.t), float(window.t[1] - window.t[0]))
         # The log keeps the references of the plant's outputs (absolute leg masses).
         y_ref = outputs_from_window(window)[0]
         mpc_ref, y_min, y_max = outputs_from_window(window, mpc.params.leg_outputs)
-        estimate = measurement.state if self.estimator is None else self.estimator.correct(
-            measurement.outputs)
         result = mpc.solve(estimate, mpc_ref[:, 1:], y_min[:, 1:], y_max[:, 1:])
         if self.estimator is not None:
             self.estimator.predict(result.jerk)
@@ -181,6 +204,7 @@ class WalkRecorder:
                timing: tuple) -> None:
         """Record cycle k: the measurement it started from, the MPC's cycle, the push."""
         log, margin = self.log, self._plant.margin
+        window = cycle.window  # the one the MPC used, after any step adjustment
         zmp_min, zmp_max = np.asarray(window.zmp_min)[0], np.asarray(window.zmp_max)[0]
         log.t[k] = t
         log.state[k] = measurement.state
@@ -227,8 +251,37 @@ def initial_state(reference, t0: float) -> np.ndarray:
     return state
 
 
+@dataclass(frozen=True)
+class WalkRun:
+    """A run on the model plant and the plan it ended with.
+
+    :param log: the per-cycle log
+    :param reference: the reference at the end of the run (adjusted, if a step adjuster ran)
+    :param revisions: plan revisions made by the step adjuster (0 without one)
+    :param adjustments: (t, StepAdjustment) of every applied adjustment
+    """
+
+    log: WalkLog
+    reference: object
+    revisions: int = 0
+    adjustments: tuple = ()
+
+
 def run_walk(reference, setup: WalkSetup, t0: Optional[float] = None,
              mpc: Optional[LinearMpc] = None) -> WalkLog:
+    """Walk the reference in closed loop on the model plant: walk(...).log.
+
+    :param reference: a WalkingReference (duck typing: sample, t_start, t_end)
+    :param setup: models, parameters, push, step adjustment
+    :param t0: start time (s); default the reference's t_start
+    :param mpc: an already built MPC to reuse (reset first); default builds one
+    :return: the log
+    """
+    return walk(reference, setup, t0, mpc).log
+
+
+def walk(reference, setup: WalkSetup, t0: Optional[float] = None,
+         mpc: Optional[LinearMpc] = None) -> WalkRun:
     """Walk the reference in closed loop on the model plant (see the module docstring).
 
     Per cycle k (t_k = t0 + k Ts): measure y_k; estimate x_k; sample the reference at t_k, ...,
@@ -239,7 +292,7 @@ def run_walk(reference, setup: WalkSetup, t0: Optional[float] = None,
     :param setup: models, parameters, push
     :param t0: start time (s); default the reference's t_start
     :param mpc: an already built MPC to reuse (reset first); default builds one
-    :return: the log
+    :return: the log and the final plan
     """
     dt = setup.mpc.dt
     if mpc is None:
@@ -249,8 +302,12 @@ def run_walk(reference, setup: WalkSetup, t0: Optional[float] = None,
     t0 = float(reference.t_start if t0 is None else t0)
     plant = JerkDrivenPlant(setup.plant_model, setup.plant, dt,
                             np.asarray(setup.polygon_margin, dtype=float))
+    source = None
+    if setup.step_adjuster is not None and setup.step_adjuster.enabled:
+        qp = replace(setup.step_adjustment, com_height=setup.controller_model.com_height)
+        source = AdjustedWalk(reference, OnlineStepAdjuster(setup.step_adjuster, qp))
     runner = ClosedLoopRunner(
-        plant, MpcJerkController(mpc, setup), reference,
+        plant, MpcJerkController(mpc, setup, source), source or reference,
         feedback_factory=lambda measurement, pelvis_source: measurement,
         params=ClosedLoopParams(control_period=dt), actuator=plant,
         recorder=WalkRecorder(plant, setup.plant_model))
@@ -260,5 +317,8 @@ def run_walk(reference, setup: WalkSetup, t0: Optional[float] = None,
     if setup.push is not None:
         runner.push(setup.push)
     log = runner.run(float(reference.t_end) + setup.settle_time - t0)
-    log.reference_end = float(reference.t_end)
-    return log
+    final = (source or runner.source).reference
+    log.reference_end = float(final.t_end)
+    if source is None:
+        return WalkRun(log, final)
+    return WalkRun(log, final, source.revision, tuple(source.history))

@@ -134,6 +134,44 @@ def evaluate_push(log: WalkLog, push: ExternalPush,
                        failures=tuple(failures), metrics=metrics)
 
 
+def evaluate_push_paper(log: WalkLog, push: ExternalPush,
+                        criteria: WithstandCriteria = WithstandCriteria()) -> PushOutcome:
+    """The paper's criterion: the fictitious ZMP returns inside the support polygon and the walk
+    completes.
+
+    The paper (section "Robustness w.r.t. External Disturbance") lets the fictitious ZMP leave
+    the support polygon "for a moment" after the push; "the controller regains it back and
+    keeps the stability of the robot". Stated as checks on the run:
+
+    1. The ZMP returns: the last cycle with the fictitious ZMP outside the real support polygon
+       (beyond zmp_tolerance, the noise jitter of evaluate_push) is before the reference's end,
+       so that it stays inside through the final settle and the settle time.
+    2. The walk completes: at the end of the run the centre of mass is within final_com_error
+       of the final hip reference and slower than final_com_speed in each plane.
+
+    Nothing bounds the legs' or the torso's excursions or the time the ZMP spends outside:
+    evaluate_push is the stricter criterion reported beside this one.
+
+    :param log: the run with the push
+    :param push: the push of the run
+    :param criteria: the thresholds (zmp_tolerance, final_com_error, final_com_speed are used)
+    :return: the verdict, with the failed conditions and the metrics of evaluate_push
+    """
+    strict = evaluate_push(log, push, criteria)
+    metrics = strict.metrics
+    failures = []
+    last_outside = metrics['last_time_outside']
+    if last_outside is not None and last_outside >= log.reference_end:
+        failures.append(f'ZMP outside the support polygon until t = {last_outside:.2f} s, '
+                        f'after the walk ends at {log.reference_end:.2f} s')
+    if metrics['final_com_error'] > criteria.final_com_error or \
+            metrics['final_com_speed'] > criteria.final_com_speed:
+        failures.append(f'not standing at the end (COM error {metrics["final_com_error"]:.3f} '
+                        f'm, speed {metrics["final_com_speed"]:.3f} m/s)')
+    return PushOutcome(force=strict.force, withstood=not failures, failures=tuple(failures),
+                       metrics=metrics)
+
+
 def largest_withstood_force(outcome_of: Callable[[float], PushOutcome], sign: float,
                             initial: float = 100.0, limit: float = 3000.0,
                             resolution: float = 5.0) -> tuple:

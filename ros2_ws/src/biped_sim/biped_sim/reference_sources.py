@@ -1,13 +1,18 @@
 """Where the closed-loop runner gets its reference windows: a fixed plan or live commands.
 
-:class:`PlannedWalk` samples a WalkingReference of a footstep plan. :class:`CommandedWalk`
+:class:`PlannedWalk` samples a WalkingReference of a footstep plan; :class:`AdjustedWalk` does
+too, after letting an online step adjuster (biped_mpc.balance.step_adjuster) move the step
+under way from the robot's estimated DCM. :class:`CommandedWalk`
 plans footsteps from omnidirectional step commands (OmnidirectionalStepper, the paper's
 tele-operation mode), appended with WalkingReference.extend so that the plan stays a fixed
 number of steps ahead of the step being walked: the planner's advice is one or two, which keeps
 the splice correction of the hip small because the footsteps that change are at least a step
 after the splice.
 """
-from typing import Callable
+import math
+from typing import Callable, Optional
+
+import numpy as np
 
 from biped_planner.walking_reference import WalkingReference
 
@@ -34,6 +39,74 @@ class PlannedWalk:
         :param dt: sample period (s)
         :return: a ReferenceWindow
         """
+        return self.reference.sample(t, n, dt)
+
+
+class AdjustedWalk:
+    """Reference source of a plan that an online step adjuster may change at every cycle.
+
+    Either the controller calls adjust(t, com, dcm) with its estimate of the cycle before it
+    samples (no delay), or a loop that only sees the controller's output calls observe() after
+    each cycle and the next window() adjusts with that estimate, its DCM carried over the
+    period by the pendulum on the reference ZMP.
+
+    :param reference: the WalkingReference of the plan
+    :param adjuster: an OnlineStepAdjuster (update(t, reference, com, dcm) -> output with
+        reference, revision, applied)
+    """
+
+    def __init__(self, reference, adjuster) -> None:
+        if not hasattr(reference, 'adjust_step'):
+            raise ConfigError(f'reference must be a WalkingReference, got '
+                              f'{type(reference).__name__}')
+        self.reference = reference
+        self.adjuster = adjuster
+        self.last = None
+        self.history = []
+        self._observed: Optional[tuple] = None
+
+    @property
+    def revision(self) -> int:
+        """Plan revisions made by the adjuster so far."""
+        return self.adjuster.revision
+
+    def adjust(self, t: float, com, dcm, zmp=None):
+        """Let the adjuster move the step under way for the estimate at t.
+
+        :param t: time of the estimate (s)
+        :param com: (2,) estimated horizontal centre of mass (m)
+        :param dcm: (2,) estimated DCM (m)
+        :param zmp: (2,) measured ZMP (m), None to let the adjuster predict it
+        :return: the adjuster's output (applied: the reference changed)
+        """
+        output = self.adjuster.update(t, self.reference, com, dcm, zmp)
+        self.reference = output.reference
+        self.last = output
+        if output.applied:
+            self.history.append((float(t), output.adjustment))
+        return output
+
+    def observe(self, t: float, com, dcm) -> None:
+        """Keep the estimate of time t for the next window."""
+        self._observed = (float(t), np.asarray(com, dtype=float), np.asarray(dcm, dtype=float))
+
+    def window(self, t: float, n: int, dt: float):
+        """The reference window of n samples from t, after adjusting with the last estimate.
+
+        :param t: first sample time (s)
+        :param n: number of samples
+        :param dt: sample period (s)
+        :return: a ReferenceWindow
+        """
+        if self._observed is not None:
+            t_seen, com, dcm = self._observed
+            self._observed = None
+            zmp = np.asarray(self.reference.sample(t_seen, 1, dt).zmp[0])
+            growth = math.exp(self.reference.omega * (t - t_seen))
+            dcm_now = zmp + (dcm - zmp) * growth
+            # the convergent component 2 c - xi decays towards the ZMP as the DCM grows
+            com_now = 0.5 * (dcm_now + zmp + (2.0 * com - dcm - zmp) / growth)
+            self.adjust(t, com_now, dcm_now)
         return self.reference.sample(t, n, dt)
 
 

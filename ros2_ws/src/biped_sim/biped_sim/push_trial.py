@@ -1,0 +1,172 @@
+"""Library push trials of the PyBullet humanoid walking in place, with or without step adjustment.
+
+One definition for the test and scripts/experiments/push_library_sweep.py: the paper's push
+scenario (walking in place, 0.3 s single and 0.1 s double support, a 100 ms push on the
+pelvis) from any horizontal direction at one of four phases of a step:
+
+- early_single: a quarter into a single support on the right foot (the paper's phase);
+- late_single: the last 0.1 s of a single support on the right foot (ends at touchdown);
+- double: the double support (0.1 s, the push covers it);
+- early_single_left: a quarter into a single support on the left foot (the other stance).
+
+With step adjustment the reference source is an AdjustedWalk: after every cycle the DCM of the
+measured state (biped_mpc.balance.measured_dcm: odometry pelvis + leg kinematics, the
+three-mass centre of mass) is handed to it, and the next window is sampled from the plan the
+OnlineStepAdjuster may have replanned.
+"""
+from dataclasses import dataclass, replace
+import math
+from typing import Optional
+
+import numpy as np
+
+from biped_mpc.balance.measured_dcm import MeasuredDcm
+from biped_mpc.balance.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_planner.footsteps import straight_footsteps
+from biped_planner.sides import SUPPORT_LEFT, SUPPORT_RIGHT
+from biped_planner.step_timing import StepTiming
+from biped_planner.walking_reference import ReferenceParams, WalkingReference
+
+from biped_sim.closed_loop import ClosedLoopRunner
+from biped_sim.errors import ConfigError
+from biped_sim.external_push import ExternalPush
+from biped_sim.reference_sources import AdjustedWalk
+
+TIMING = StepTiming(single_support=0.3, double_support=0.1)   # the paper's push scenario
+REFERENCE = ReferenceParams(com_height=0.497, swing_height=0.04, foot_length=0.2,
+                            foot_width=0.1)
+STEP_WIDTH = 0.14
+T_START = 0.5
+PUSH_DURATION = 0.1
+FIRST_PUSH_AFTER = 2.0   # s: the push falls in the first step of its phase after this
+RECOVERY = 1.5           # s walked after the push ends; the falls seen came within 1.2 s
+# phase name: (support of the phase, push start after the phase start (s))
+PHASES = {
+    'early_single': (SUPPORT_RIGHT, 0.25 * TIMING.single_support),
+    'late_single': (SUPPORT_RIGHT, TIMING.single_support - PUSH_DURATION),
+    'double': (None, 0.0),
+    'early_single_left': (SUPPORT_LEFT, 0.25 * TIMING.single_support),
+}
+# The humanoid's legs (hips 0.47 m high): steps of 0.3 m ahead, 0.2 m back, ankles 0.1 to
+# 0.3 m apart sideways (no crossing); the shortest step 0.15 s after lift-off.
+HUMANOID_STEP_LIMITS = StepAdjustmentParams(
+    com_height=REFERENCE.com_height, reach_forward=0.3, reach_backward=0.2, width_min=0.1,
+    width_max=0.3, step_time_min=0.15, step_time_max=0.45)
+# Replans answer a push once (and correct once); the swing foot follows its planned curve, so
+# the landing may still change 0.08 s before touchdown.
+HUMANOID_ADJUSTER = OnlineStepAdjusterParams(
+    dcm_deadband=0.01, ankle_authority=0.3, location_threshold=0.04, timing_threshold=0.03,
+    freeze_time=0.08, max_replans_per_step=2, replan_interval=0.04)
+
+
+@dataclass(frozen=True)
+class PushTrialResult:
+    """What a push trial measured.
+
+    :param fallen: the run ended in a fall
+    :param fall_time: when (s), NaN without a fall
+    :param push: the push applied
+    :param revisions: plan revisions the step adjuster made (0 without it)
+    :param adjustments: (t, StepAdjustment) of every replan
+    :param reference: the plan at the end of the run
+    :param log: the runner's RunLog
+    :param adjuster_times: (n,) wall time of each cycle's adjustment (s), empty without it
+    """
+
+    fallen: bool
+    fall_time: float
+    push: ExternalPush
+    revisions: int
+    adjustments: tuple
+    reference: object
+    log: object
+    adjuster_times: np.ndarray
+
+
+def walk_in_place_reference(n_steps: int = 16) -> WalkingReference:
+    """The in-place walk of the push trials (n_steps steps from T_START)."""
+    return WalkingReference(straight_footsteps(n_steps, 0.0, STEP_WIDTH), TIMING, REFERENCE,
+                            t_start=T_START)
+
+
+def push_start(reference, phase: str, after: float = FIRST_PUSH_AFTER) -> float:
+    """Start time of the push at a phase: the first phase of that kind starting after `after`.
+
+    :param reference: the WalkingReference walked
+    :param phase: a key of PHASES
+    :param after: earliest phase start (s)
+    :return: the push start (s)
+    :raises ConfigError: for an unknown phase or none after `after`
+    """
+    if phase not in PHASES:
+        raise ConfigError(f'phase must be one of {tuple(PHASES)}, got {phase!r}')
+    support, delay = PHASES[phase]
+    for candidate in reference.phases:
+        if candidate.t_begin < after - 1e-9:
+            continue
+        if support is None and candidate.kind == 'double_support' or \
+                support is not None and candidate.kind == 'single_support' and \
+                candidate.support == support:
+            return float(candidate.t_begin) + delay
+    raise ConfigError(f'no {phase} phase after {after} s in the plan')
+
+
+def run_push_trial(backend, controller, robot, force: float, direction: float, phase: str,
+                   adjuster: Optional[OnlineStepAdjusterParams] = None,
+                   step_limits: StepAdjustmentParams = HUMANOID_STEP_LIMITS,
+                   recovery: float = RECOVERY, clock=None,
+                   measured_zmp: bool = False) -> PushTrialResult:
+    """Walk in place, push the pelvis, walk on for `recovery` s (or until a fall).
+
+    :param backend: a PyBulletBackend
+    :param controller: a WalkingController
+    :param robot: the RobotModel the controller uses (the measured DCM needs its legs)
+    :param force: push magnitude (N), >= 0
+    :param direction: push direction in the horizontal plane, from +x towards +y (rad)
+    :param phase: a key of PHASES
+    :param adjuster: step adjustment parameters, None (or enabled False) for none
+    :param step_limits: the adjustment QP's limits and weights
+    :param recovery: time walked after the push (s)
+    :param clock: wall clock timing each adjustment (time.perf_counter), None for no timing
+    :param measured_zmp: predict the DCM with the F/T ZMP instead of the stance foot
+    :return: the trial's outcome
+    :raises ConfigError: for a negative or non-finite force or an unknown phase
+    """
+    if not math.isfinite(force) or force < 0.0:
+        raise ConfigError(f'force must be finite and >= 0 (N), got {force!r}')
+    reference = walk_in_place_reference()
+    start = push_start(reference, phase)
+    push = ExternalPush(force=(force * math.cos(direction), force * math.sin(direction), 0.0),
+                        duration=PUSH_DURATION, start_time=start)
+    source = reference
+    on_cycle = None
+    times = []
+    if adjuster is not None and adjuster.enabled:
+        qp = replace(step_limits, com_height=REFERENCE.com_height)
+        source = AdjustedWalk(reference, OnlineStepAdjuster(adjuster, qp))
+        measured = MeasuredDcm(robot)
+
+        def observe(t, window, output, readings):
+            com, dcm = measured.update(readings.time, readings.joints.position[:12],
+                                       readings.base.position, readings.base.orientation)
+            zmp = readings.zmp if measured_zmp else None
+            if clock is None:
+                source.adjust(readings.time, com, dcm, zmp)
+                return
+            begin = clock()
+            source.adjust(readings.time, com, dcm, zmp)
+            times.append(clock() - begin)
+
+        on_cycle = observe
+    runner = ClosedLoopRunner(backend, controller, source)
+    runner.reset()
+    runner.push(push)
+    log = runner.run(start + PUSH_DURATION + recovery, on_cycle=on_cycle)
+    fallen = bool(log.fallen)
+    final = source.reference if isinstance(source, AdjustedWalk) else reference
+    return PushTrialResult(
+        fallen, float(log.fall_time) if fallen else math.nan, push,
+        source.revision if isinstance(source, AdjustedWalk) else 0,
+        tuple(source.history) if isinstance(source, AdjustedWalk) else (), final, log,
+        np.array(times))

@@ -1,0 +1,56 @@
+"""The paper's MATLAB push test with online step adjustment, and the paper's own criterion."""
+import numpy as np
+
+from biped_mpc.balance.step_adjuster import OnlineStepAdjusterParams
+from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_mpc.three_mass_model import three_mass_model
+from biped_sim.external_push import ExternalPush
+from biped_sim.model_walk import walk, WalkSetup
+from biped_sim.push_recovery import evaluate_push, evaluate_push_paper
+
+MODEL = three_mass_model()
+# scripts/experiments/model_experiments.py PAPER_STEP_ADJUSTMENT: limits around 0.8 m steps
+QP = StepAdjustmentParams(reach_forward=1.1, reach_backward=0.3, step_time_min=0.4,
+                          step_time_max=1.2)
+
+
+def pushed_walk(reference, force, adjust):
+    push = None if force == 0.0 else ExternalPush((force, 0.0, 0.0), duration=0.1,
+                                                  start_time=1.6)
+    setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
+                      polygon_margin=(0.005, 0.004),
+                      step_adjuster=OnlineStepAdjusterParams(enabled=adjust),
+                      step_adjustment=QP)
+    return walk(reference, setup), push
+
+
+def test_unpushed_walk_is_not_adjusted(paper_reference):
+    on, _ = pushed_walk(paper_reference, 0.0, True)
+    off, _ = pushed_walk(paper_reference, 0.0, False)
+    assert on.revisions == 0 and on.adjustments == ()
+    assert on.reference.footsteps == paper_reference.footsteps
+    np.testing.assert_allclose(on.log.state, off.log.state, atol=1e-12)
+
+
+def test_paper_criterion_is_weaker_than_ours(paper_reference):
+    """435 N: the ZMP returns and the walk completes, but a leg mass strays 0.25 m."""
+    run, push = pushed_walk(paper_reference, 435.0, False)
+    assert evaluate_push_paper(run.log, push).withstood
+    strict = evaluate_push(run.log, push)
+    assert not strict.withstood
+    assert any('leg mass' in failure for failure in strict.failures)
+
+
+def test_step_adjustment_recovers_a_push_the_fixed_plan_does_not(paper_reference):
+    """-500 N: without adjustment the robot is still moving at the end; with it, it stands."""
+    fixed, push = pushed_walk(paper_reference, -500.0, False)
+    verdict = evaluate_push_paper(fixed.log, push)
+    assert not verdict.withstood and 'not standing' in verdict.failures[0]
+    adjusted, _ = pushed_walk(paper_reference, -500.0, True)
+    assert evaluate_push_paper(adjusted.log, push).withstood
+    assert adjusted.revisions == len(adjusted.adjustments) > 0
+    # a backward push shortens the steps: the walk ends behind the planned end
+    assert adjusted.reference.footsteps[-1].x < paper_reference.footsteps[-1].x - 0.05
+    # the plant walked the adjusted plan: it stands at its end
+    final = adjusted.reference.sample(adjusted.reference.t_end, 1, 0.02).hip[0]
+    np.testing.assert_allclose(adjusted.log.com[-1], final, atol=0.05)

@@ -1,0 +1,73 @@
+"""Step adjustment on the PyBullet humanoid: a lateral push that falls without it is survived."""
+import math
+
+import pytest
+
+from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_planner.sides import SUPPORT_RIGHT
+from biped_sim.errors import ConfigError
+from biped_sim.push_trial import (HUMANOID_ADJUSTER, PHASES, push_start, run_push_trial,
+                                  TIMING, walk_in_place_reference)
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.robot_description import coman_like
+
+# N for 100 ms towards the swing side, early in a right single support: with the Bezier swing,
+# fresh simulators, off falls and on walks from 160 to 180 N (150 N: off walks, 200 N: both fall)
+LATERAL_FORCE = 170.0
+
+
+@pytest.fixture(scope='module')
+def robot():
+    return coman_like()
+
+
+def trial(robot, adjuster):
+    """One push in a fresh simulator (a run depends on what the simulator ran before)."""
+    sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
+    try:
+        controller = WalkingController(WalkingControllerParams(
+            robot=robot.controller_model, balance='stabilizer', swing_target='planned'))
+        return run_push_trial(sim, controller, robot.controller_model, LATERAL_FORCE,
+                              math.radians(90.0), 'early_single', adjuster)
+    finally:
+        sim.close()
+
+
+def test_lateral_push_falls_without_and_is_survived_with_step_adjustment(robot):
+    fixed = trial(robot, None)
+    assert fixed.fallen and fixed.revisions == 0
+    adjusted = trial(robot, HUMANOID_ADJUSTER)
+    assert not adjusted.fallen
+    # answered decisively: the pushed step is replanned at most twice
+    assert 1 <= adjusted.revisions
+    pushed_step = [a for t, a in adjusted.adjustments
+                   if adjusted.push.start_time <= t < adjusted.push.start_time + 0.3]
+    assert 1 <= len(pushed_step) <= HUMANOID_ADJUSTER.max_replans_per_step
+    # the left (swing) foot landed further out towards the push than planned (0.07 m)
+    assert pushed_step[-1].location[1] > 0.07 + 0.03
+
+
+@pytest.mark.parametrize('phase', tuple(PHASES))
+def test_push_starts_in_its_phase(phase):
+    reference = walk_in_place_reference()
+    start = push_start(reference, phase)
+    assert start >= 2.0
+    support, delay = PHASES[phase]
+    kind = 'double_support' if support is None else 'single_support'
+    begins = [p.t_begin for p in reference.phases if p.kind == kind
+              and (support is None or p.support == support)]
+    assert min(abs(start - delay - b) for b in begins) < 1e-9
+    if phase == 'late_single':
+        # the push ends at touchdown
+        assert any(abs(start + 0.1 - (b + TIMING.single_support)) < 1e-9 for b in begins)
+    if phase == 'early_single':
+        assert support == SUPPORT_RIGHT and delay == pytest.approx(0.075)
+
+
+def test_bad_trials_are_rejected():
+    with pytest.raises(ConfigError):
+        push_start(walk_in_place_reference(), 'mid_air')
+    with pytest.raises(ConfigError):
+        push_start(walk_in_place_reference(4), 'double', after=100.0)
+    with pytest.raises(ConfigError):
+        run_push_trial(None, None, None, -1.0, 0.0, 'double')
