@@ -21,9 +21,7 @@ from biped_sim.closed_loop import ClosedLoopParams, ClosedLoopRunner
 from biped_sim.errors import ConfigError
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_plant_backend import ModelPlantBackend, ModelPlantBackendParams
-from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.reference_sources import CommandedWalk, PlannedWalk
-from biped_sim.robot_description import coman_like
 from biped_sim.run_log import RunLog
 
 TIMING = StepTiming(single_support=0.4, double_support=0.2)
@@ -33,18 +31,6 @@ STEP_WIDTH = 0.14
 T_START = 0.5
 PELVIS_FLOOR = 0.45  # m: the pelvis stands at 0.54 m
 MAX_TILT = math.radians(10.0)
-
-
-@pytest.fixture(scope='module')
-def robot():
-    return coman_like()
-
-
-@pytest.fixture(scope='module')
-def sim(robot):
-    backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
-    yield backend
-    backend.close()
 
 
 @pytest.fixture(scope='module')

@@ -41,16 +41,23 @@ def _configuration(description, names, yaw=0.3, leg_override=None):
     return base, quaternion, q
 
 
-def _rnea_with_contacts(description, names, base, quaternion, q, forces, points):
-    """Independent check: inverse dynamics at rest with the split forces as external forces."""
+def _pinocchio_at(description, names, base, quaternion, q):
+    """Pinocchio's free-flyer model of the URDF, its data and the configuration, with the frames
+    placed (forward kinematics)."""
     model = pin.buildModelFromUrdf(description.urdf_path, pin.JointModelFreeFlyer())
-    model.gravity.linear = np.array([0.0, 0.0, -G])
     data = model.createData()
     config = pin.neutral(model)
     config[:3], config[3:7] = base, quaternion
     for name, angle in zip(names, q):
         config[model.joints[model.getJointId(name)].idx_q] = angle
     pin.framesForwardKinematics(model, data, config)
+    return model, data, config
+
+
+def _rnea_with_contacts(description, names, base, quaternion, q, forces, points):
+    """Independent check: inverse dynamics at rest with the split forces as external forces."""
+    model, data, config = _pinocchio_at(description, names, base, quaternion, q)
+    model.gravity.linear = np.array([0.0, 0.0, -G])
     fext = [pin.Force.Zero() for _ in range(model.njoints)]
     for frame, force, point in zip(description.sole_frames, forces, points):
         joint = model.frames[model.getFrameId(frame)].parentJoint
@@ -66,13 +73,7 @@ def test_both_feet_balance_gravity_and_match_inverse_dynamics(description, compe
     names = _joint_names(description)
     base, quaternion, q = _configuration(description, names)
     tau = compensation.torques(base, quaternion, q, (True, True))
-    model = pin.buildModelFromUrdf(description.urdf_path, pin.JointModelFreeFlyer())
-    data = model.createData()
-    config = pin.neutral(model)
-    config[:3], config[3:7] = base, quaternion
-    for name, angle in zip(names, q):
-        config[model.joints[model.getJointId(name)].idx_q] = angle
-    pin.framesForwardKinematics(model, data, config)
+    model, data, config = _pinocchio_at(description, names, base, quaternion, q)
     com = pin.centerOfMass(model, data, config)
     soles = [data.oMf[model.getFrameId(f)] for f in description.sole_frames]
     forces, points = compensation.split_weight(

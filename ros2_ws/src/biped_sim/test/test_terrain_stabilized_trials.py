@@ -10,21 +10,7 @@ import numpy as np
 import pytest
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
-from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
-from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import edge_terrain, paper_terrain, run_trial
-
-
-@pytest.fixture(scope='module')
-def robot():
-    return coman_like()
-
-
-@pytest.fixture(scope='module')
-def sim(robot):
-    backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
-    yield backend
-    backend.close()
 
 
 def test_standing_thirty_seconds_with_a_sole_half_over_an_edge(sim, robot):

@@ -11,21 +11,7 @@ but the walk after it is marginal.
 import pytest
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
-from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
-from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import lane_step_terrain, run_trial
-
-
-@pytest.fixture(scope='module')
-def robot():
-    return coman_like()
-
-
-@pytest.fixture(scope='module')
-def sim(robot):
-    backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
-    yield backend
-    backend.close()
 
 
 def walk(sim, robot, terrain, contact_aware_landing):
