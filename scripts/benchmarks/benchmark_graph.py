@@ -41,6 +41,7 @@ class LatencyProbe:
         from sensor_msgs.msg import JointState
         self.sensor_arrival, self.command_arrival = {}, {}
         self.controller_latency = []
+        self.deadlines = None  # (periods, late periods) of the controller's newest diagnostics
         self.sim_time = 0.0
         node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
                                  self._on_diagnostics, 100)
@@ -55,6 +56,8 @@ class LatencyProbe:
     def _on_diagnostics(self, msg) -> None:
         if msg.cycle_latency > 0.0:
             self.controller_latency.append(msg.cycle_latency)
+        if msg.periods:
+            self.deadlines = (msg.periods, msg.late_periods)
 
     def latencies(self) -> list:
         sensors, commands = self.sensor_arrival, self.command_arrival
@@ -173,13 +176,16 @@ def measure(domain_id: int, seconds: float, observer: str) -> dict:
         run.wait_until_ready()
         run.start_walking()
         run.wait_sim_time(WARM_UP, 60)
+        deadlines0 = run.probe.deadlines or (0, 0)
         sim0, wall0 = run.sim_time(), time.perf_counter()
         run.wait_sim_time(seconds, 10 * seconds + 60)
         rtf = (run.sim_time() - sim0) / (time.perf_counter() - wall0)
         fallen = run.fallen()
         latencies = run.probe.latencies()
         inside = sorted(run.probe.controller_latency)
-    return {'rtf': rtf, 'latency_median_ms': 1e3 * statistics.median(latencies),
+        periods, late = (a - b for a, b in zip(run.probe.deadlines or (0, 0), deadlines0))
+    return {'late_per_10000': 1e4 * late / periods if periods else float('nan'),
+            'periods': periods,'rtf': rtf, 'latency_median_ms': 1e3 * statistics.median(latencies),
             'latency_p99_ms': 1e3 * latencies[int(0.99 * (len(latencies) - 1))],
             'controller_median_ms': 1e3 * statistics.median(inside),
             'controller_p99_ms': 1e3 * inside[int(0.99 * (len(inside) - 1))],
@@ -216,6 +222,10 @@ def main(argv=None) -> int:
                                                                                'p99')]
     print(f'| inside the controller (joint_states in -> command out), median / p99 | '
           f'{inside[0]:.2f} / {inside[1]:.2f} ms | |')
+    late = sum(r['late_per_10000'] * r['periods'] for r in results) / max(
+        1, sum(r['periods'] for r in results))
+    print(f'| late commands (over command_deadline, 20 ms) per 10,000 periods, all runs | '
+          f'{late:.1f} | 0 |')
     print(f'| fell | {sum(r["fallen"] for r in results)} of {args.runs} runs | 0 |')
     return 0
 

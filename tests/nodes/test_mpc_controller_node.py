@@ -256,6 +256,22 @@ def test_malformed_references_are_refused(walk_loop):
     assert g['commands'].wait_for(g['executor'], timeout=10)  # controls on the good one
 
 
+def test_diagnostics_count_the_periods_and_the_late_ones_against_the_deadline(walk_loop):
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    play_references(g, window_of, clock_time(g) + 1.0)
+    counted = [d for d in g['diag'].messages if d.periods > 0]
+    assert len(counted) >= 40
+    last = counted[-1]
+    assert last.command_deadline == pytest.approx(0.02)
+    assert [d.periods for d in counted] == sorted(d.periods for d in counted)  # a count
+    assert 0 <= last.late_periods <= last.periods
+    assert 0.0 < last.latency_p50 <= last.latency_p99 <= last.latency_max
+    # the cycles' own latencies: the median of those published lies within their range
+    latencies = [d.cycle_latency for d in counted]
+    assert min(latencies) <= last.latency_p50 <= max(latencies)
+
+
 def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk_loop):
     from biped_msgs.msg import WalkingState
     from biped_msgs.srv import Push

@@ -72,3 +72,11 @@ def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
     diag.ankle_offsets = floats(output.ankle_offsets)
     diag.vertical_offsets = floats(output.vertical_offsets)
     diag.landing_modes = [str(m) for m in output.landing_modes]
+
+
+def deadline_terms(diag: ControllerDiagnostics, monitor) -> None:
+    """The deadline accounting of a biped_mpc.deadline_monitor.DeadlineMonitor."""
+    report = monitor.report()
+    diag.command_deadline = monitor.deadline
+    diag.periods, diag.late_periods = report.periods, report.late
+    diag.latency_p50, diag.latency_p99, diag.latency_max = report.p50, report.p99, report.max

@@ -52,10 +52,11 @@ from sensor_msgs.msg import Imu, JointState
 from biped_mpc.controller_io import ControllerFeedback, STATUS_MPC_FALLBACK
 from biped_mpc.controller_params import (CONTROLLER_MPC_PARAMS, PELVIS_GROUND_TRUTH,
                                          WalkingControllerParams)
+from biped_mpc.deadline_monitor import DeadlineMonitor
 from biped_mpc.errors import BipedMpcError, InputError
 from biped_mpc.input_bounds import check_reference_window, InputBounds
 from biped_mpc.mpc_params import MpcParams
-from biped_mpc.nodes.conversions import diagnostics_msg, sole_poses_msg
+from biped_mpc.nodes.conversions import deadline_terms, diagnostics_msg, sole_poses_msg
 from biped_mpc.nodes.latest_message_reader import LatestMessageReader
 from biped_mpc.nodes.sensor_intake import SensorFrames, SensorIntake
 from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
@@ -108,6 +109,9 @@ class MpcControllerNode(Node):
                                'to reference_hung_timeout, while the reference generator\'s '
                                'process is alive (DDS liveliness of reference_trajectory/alive)',
                                (0.0, 5.0)),
+            'command_deadline': (0.02, 'latency budget of a period, joint_states in to command '
+                                 'out; later ones are counted in controller_diagnostics (s)',
+                                 (0.0001, 1.0)),
             'reference_hung_timeout': (1.0, 'a live reference generator that has sent nothing for '
                                        'this wall time is not waited for beyond reference_wait '
                                        '(s)', (0.0, 600.0)),
@@ -120,7 +124,7 @@ class MpcControllerNode(Node):
             **{f'frames.{name}': (value, f'expected frame_id of the {name} data', None)
                for name, value in FRAME_FIELDS.items()}},
             read_only=('robot_description_file', 'urdf_file', 'solver', 'leg_outputs',
-                       'reference_wait', 'foot_length', 'foot_width',
+                       'reference_wait', 'command_deadline', 'foot_length', 'foot_width',
                        *(f'frames.{name}' for name in FRAME_FIELDS)))
         get = lambda name: self.get_parameter(name).value  # noqa: E731
         self._robot = load_robot_model(get('robot_description_file'))
@@ -190,6 +194,7 @@ class MpcControllerNode(Node):
                                              clock=steady)
         self._wait_timer.cancel()
         self._reference_arrival = None  # wall time the last valid reference arrived
+        self._deadlines = DeadlineMonitor(float(get('command_deadline')))
         self._reference_process = LivelinessWatch(self, 'reference_trajectory')
         self.create_timer(WATCHDOG_PERIOD, self._on_watchdog, clock=steady)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
@@ -371,6 +376,7 @@ class MpcControllerNode(Node):
         self._command_pub.publish(command)
         self._last_command = command
         latency = time.monotonic() - self._joint_states_arrival
+        self._deadlines.record(latency)
         self._soles_pub.publish(sole_poses_msg(
             (output.left_foot_target, output.right_foot_target), stamp,
             self.get_parameter('frames.world').value))
@@ -380,8 +386,9 @@ class MpcControllerNode(Node):
             status, message = ControllerDiagnostics.FALLBACK, 'QP failed: shifted previous plan'
         else:
             status, message = ControllerDiagnostics.OK, ''
-        self._diag_pub.publish(diagnostics_msg(stamp, status, message, self._params, output,
-                                               latency))
+        diagnostics = diagnostics_msg(stamp, status, message, self._params, output, latency)
+        deadline_terms(diagnostics, self._deadlines)
+        self._diag_pub.publish(diagnostics)
 
     def _hold_joints(self, stamp, why: str) -> None:
         """No cycle can run: the last setpoints again (the period is answered), or WAITING."""
