@@ -12,6 +12,7 @@ from typing import Sequence
 import numpy as np
 
 from biped_mpc.errors import ConfigError, InputError
+from biped_planner.input_checks import first_outside_limits
 from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.sides import SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
 
@@ -102,13 +103,11 @@ def check_joint_angles(names: Sequence[str], angles: Sequence[float], lower: Seq
     :raises InputError: naming the first joint out of bounds
     """
     q = np.asarray(angles, dtype=float)
-    low = np.asarray(lower, dtype=float) - bounds.joint_margin
-    high = np.asarray(upper, dtype=float) + bounds.joint_margin
-    bad = ~np.isfinite(q) | (q < low) | (q > high)
-    if np.any(bad):
-        i = int(np.flatnonzero(bad)[0])
-        raise InputError(f'joint {names[i]} at {q[i]!r} rad is outside [{low[i]:.3f}, '
-                         f'{high[i]:.3f}] (its limits widened by {bounds.joint_margin} rad)')
+    outside = first_outside_limits(q, lower, upper, bounds.joint_margin)
+    if outside is not None:
+        i, low, high = outside
+        raise InputError(f'joint {names[i]} at {q[i]!r} rad is outside [{low:.3f}, '
+                         f'{high:.3f}] (its limits widened by {bounds.joint_margin} rad)')
     return q
 
 

@@ -100,3 +100,19 @@ def check_finite_array(name: str, value, shape: Optional[Tuple[int, ...]] = None
     if not np.all(np.isfinite(array)):
         raise error(f'{name} must be finite, got {value!r}')
     return array
+
+
+def first_outside_limits(values, lower, upper, margin: float):
+    """The first of values that is not finite or lies outside its limits widened by margin.
+
+    :param values: (n,) values; lower, upper: (n,) limits (-inf / inf for none)
+    :return: None when every value is inside, else (index, widened low, widened high)
+    """
+    values = np.asarray(values, dtype=float)
+    low = np.asarray(lower, dtype=float) - margin
+    high = np.asarray(upper, dtype=float) + margin
+    bad = ~np.isfinite(values) | (values < low) | (values > high)
+    if not np.any(bad):
+        return None
+    i = int(np.flatnonzero(bad)[0])
+    return i, float(low[i]), float(high[i])

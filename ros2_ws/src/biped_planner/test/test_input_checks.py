@@ -6,7 +6,8 @@ import pytest
 
 from biped_planner.errors import CommandError, ConfigError
 from biped_planner.input_checks import (check_finite_array, check_integer, check_number,
-                                        check_side, check_type, is_finite_number)
+                                        check_side, check_type, first_outside_limits,
+                                        is_finite_number)
 from biped_planner.sides import LEFT, RIGHT
 
 
@@ -78,3 +79,12 @@ def test_check_finite_array_returns_a_float_copy():
     source = np.array([1, 2])
     array = check_finite_array('hip0', source, (2,))
     assert array.dtype == float and array is not source
+
+
+def test_first_outside_limits_widens_the_limits_by_the_margin_and_names_the_first():
+    lower, upper = [-1.0, -1.0, -math.inf], [1.0, 1.0, math.inf]
+    assert first_outside_limits([1.05, -1.05, 1e9], lower, upper, 0.1) is None
+    assert first_outside_limits([0.0, -1.2, 5.0], lower, upper, 0.1) == \
+        (1, pytest.approx(-1.1), pytest.approx(1.1))
+    assert first_outside_limits([1.2, math.nan, 0.0], lower, upper, 0.1)[0] == 0
+    assert first_outside_limits([0.0, 0.0, math.nan], lower, upper, 0.1)[0] == 2  # NaN: out

@@ -9,6 +9,7 @@ import xml.etree.ElementTree as ElementTree
 
 import numpy as np
 
+from biped_planner.input_checks import first_outside_limits
 from biped_sim.errors import ConfigError, InputError
 
 
@@ -59,11 +60,9 @@ def check_setpoints(names: Sequence[str], setpoints: Sequence[float], lower: Seq
     if not (isinstance(margin, (int, float)) and math.isfinite(margin) and margin >= 0.0):
         raise ConfigError(f'margin must be a finite number >= 0 (rad), got {margin!r}')
     values = np.asarray(setpoints, dtype=float)
-    low = np.asarray(lower, dtype=float) - margin
-    high = np.asarray(upper, dtype=float) + margin
-    bad = ~np.isfinite(values) | (values < low) | (values > high)
-    if np.any(bad):
-        i = int(np.flatnonzero(bad)[0])
-        raise InputError(f'setpoint {values[i]!r} of {names[i]} is outside [{low[i]:.3f}, '
-                         f'{high[i]:.3f}] rad (its limits widened by {margin} rad)')
+    outside = first_outside_limits(values, lower, upper, margin)
+    if outside is not None:
+        i, low, high = outside
+        raise InputError(f'setpoint {values[i]!r} of {names[i]} is outside [{low:.3f}, '
+                         f'{high:.3f}] rad (its limits widened by {margin} rad)')
     return values
