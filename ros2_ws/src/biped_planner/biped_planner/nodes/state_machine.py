@@ -311,8 +311,11 @@ class StateMachineNode(Node):
         self._teleop.driving = False
         walking = self._walking()
         planner = self.planner_available()
+        before = self._machine.status
         transitions = self._machine.request_stop(
             now, reason, unplanned=walking and self._plan is not None and not planner)
+        if not transitions and self._machine.status != before:
+            self._publish(self._machine.status, now)  # the stop and its reason are news now
         if planner and (walking or cancelled is not None):
             request, _ = self._requests.new(
                 RequestKind.COMMAND if command is not None else RequestKind.CANCEL,
