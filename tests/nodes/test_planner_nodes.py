@@ -67,8 +67,6 @@ def graph(ros_context, executor):
     for topic in ('walk_command', 'goal_pose', 'cmd_vel'):
         assert [i.node_name for i in client.get_subscriptions_info_by_topic(topic)] == \
             ['state_machine'], topic
-    g['plan_walk'] = client.create_client(PlanWalk, 'plan_walk')
-    assert g['plan_walk'].wait_for_service(timeout_sec=15)
     assert wait_for_subscribers(executor, g['clock'].publisher, count=3, timeout=15)
     grid, start, goal_pose = paper_start_goal_example()
     g['start'], g['goal_pose'] = start, goal_pose
@@ -76,6 +74,9 @@ def graph(ros_context, executor):
     assert wait_for_subscribers(executor, g['map'], count=1, timeout=15)
     g['odom'].publish(odometry(start.x, start.y, start.yaw))
     g['clock'].advance(0.1)
+    # the planner serves plan_walk once it knows the start pose
+    g['plan_walk'] = client.create_client(PlanWalk, 'plan_walk')
+    assert spin_until(executor, g['plan_walk'].service_is_ready, 15.0), 'no plan_walk'
     return g
 
 

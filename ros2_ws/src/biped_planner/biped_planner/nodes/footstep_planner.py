@@ -113,8 +113,11 @@ class FootstepPlannerNode(Node):
         self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
         self._soles_seen = False
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
-        self.create_service(PlanWalk, 'plan_walk', self._on_plan_walk)
-        self.get_logger().info('footstep planner ready (waiting for map and odom)')
+        # plan_walk is offered once the robot's pose is known: a caller that finds the service
+        # (the state machine waits for it) is never refused for a start not yet received
+        self._service = None
+        self.get_logger().info('footstep planner ready (plan_walk once odom or sole_poses '
+                               'arrive)')
 
     # --- inputs -----------------------------------------------------------------------------
     def _on_map(self, msg: OccupancyGridMsg) -> None:
@@ -148,6 +151,7 @@ class FootstepPlannerNode(Node):
         if not self._walking():
             self._pose = pose
             self._soles_seen = True
+            self._offer_plan_walk()
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._soles_seen:
@@ -161,6 +165,13 @@ class FootstepPlannerNode(Node):
             self._pose = checked_pose2d('odom', msg.pose.pose, self._bounds)
         except BipedPlannerError as error:
             self._reject('odom', error)
+            return
+        self._offer_plan_walk()
+
+    def _offer_plan_walk(self) -> None:
+        if self._service is None:
+            self._service = self.create_service(PlanWalk, 'plan_walk', self._on_plan_walk)
+            self.get_logger().info('plan_walk served: the start pose is known')
 
     def _on_state(self, msg: WalkingState) -> None:
         if msg.phase not in PHASES or msg.support_foot not in SUPPORTS:
