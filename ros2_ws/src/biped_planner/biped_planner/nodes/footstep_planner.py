@@ -6,7 +6,8 @@ command, goal or velocity -> accepted, plan_id, error code), the way nav2's navi
 planner server. Every plan published answers a request: FootstepPlan.request_id is that
 request's id, or 0 for this node's own extension of a continuous (teleop) plan.
 
-Service: plan_walk (biped_msgs/PlanWalk).
+Service: plan_walk (biped_msgs/PlanWalk), offered once the start pose is known (odom or
+sole_poses).
 Subscribes: map (nav_msgs/OccupancyGrid, transient local), sole_poses (geometry_msgs/PoseArray
 from the controller: a plan starts between the feet; odom until then), walking_state
 (biped_msgs/WalkingState: teleop plans stay ahead of it).
