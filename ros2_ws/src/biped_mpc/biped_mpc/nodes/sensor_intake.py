@@ -17,15 +17,12 @@ from biped_mpc.errors import InputError
 from biped_mpc.input_bounds import (check_joint_angles, check_position, check_quaternion,
                                     check_vector, InputBounds)
 from biped_mpc.nodes.conversions import world_velocity
+from biped_planner.node_support.stamps import seconds_of
 
 Stamp = Tuple[int, int]
 CLOCK_JUMP = 0.1  # s: a stamp this close to a clock that went back follows the clock
 MAX_JUMP = 0.25  # s: a stream's stamps move on by a period; farther ahead is refused
 NEW_TIMELINE = 25  # stamps off the timeline that run on steadily this long become the time
-
-
-def stamp_seconds(stamp) -> float:
-    return stamp.sec + stamp.nanosec * 1e-9
 
 
 @dataclass(frozen=True)
@@ -78,7 +75,7 @@ class SensorIntake:
         :return: (it was kept, why the message was refused or None)
         """
         stamp = msg.header.stamp
-        seconds = stamp_seconds(stamp)
+        seconds = seconds_of(stamp)
         try:
             self._checks[topic](msg)
         except (InputError, ValueError, TypeError) as error:
@@ -103,7 +100,7 @@ class SensorIntake:
     def age(self, topic: str, t: float) -> Optional[float]:
         """How old the newest valid message of topic is at t (s), None without one."""
         msg = self.valid.get(topic)
-        return None if msg is None else t - stamp_seconds(msg.header.stamp)
+        return None if msg is None else t - seconds_of(msg.header.stamp)
 
     def why_stale(self, topic: str) -> str:
         """What the last refused message of topic was refused for ('' when none was)."""

@@ -8,6 +8,7 @@ import array
 from biped_msgs.msg import ReferenceTrajectory
 import numpy as np
 
+from biped_planner.node_support.stamps import seconds_of
 from biped_planner.reference_window import ReferenceWindow
 
 UNBOUNDED = 1e9  # stands for +-inf in ReferenceTrajectory bounds (CDR carries inf, users read 1e9)
@@ -78,6 +79,6 @@ def window_from_reference_msg(msg: ReferenceTrajectory):
     step_index = np.asarray(msg.step_index, dtype=np.int64)
     if len(support) != n or len(step_index) != n or not np.isfinite(msg.dt) or msg.dt <= 0.0:
         raise ValueError(f'reference support/step_index/dt malformed (n={n}, dt={msg.dt})')
-    t0 = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+    t0 = seconds_of(msg.header.stamp)
     return ReferenceWindow(t=t0 + msg.dt * np.arange(n), support=support, step_index=step_index,
                            **arrays)

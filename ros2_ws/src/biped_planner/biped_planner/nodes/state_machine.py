@@ -41,6 +41,7 @@ from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.node_support.side_call import SideCall
+from biped_planner.node_support.stamps import seconds_of
 from biped_planner.nodes.conversions import (command_status_msg, goal_command_from_msg,
                                              plan_walk_request, received_plan, twist_of,
                                              velocity_from_twist, walk_command_from_msg,
@@ -367,7 +368,7 @@ class StateMachineNode(Node):
         self._watch.arrived(name, self._now(), time.monotonic())
 
     def _on_odometry(self, msg: Odometry) -> None:
-        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        stamp = seconds_of(msg.header.stamp)
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         now = self._now()
         try:

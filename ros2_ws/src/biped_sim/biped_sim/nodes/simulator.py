@@ -47,6 +47,7 @@ from biped_planner.node_support.dataclass_parameters import declare_node_paramet
 from biped_planner.node_support.liveliness import LivelinessWatch
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.node_support.stamps import seconds_of
 from biped_sim.camera_view import CameraView
 from biped_sim.errors import BipedSimError
 from biped_sim.external_push import ExternalPush
@@ -72,10 +73,6 @@ DIAGNOSTIC_NAME = 'simulator: joint_commands'
 def stamp_of(t: float) -> Time:
     sec = int(math.floor(t))
     return Time(sec=sec, nanosec=int(round((t - sec) * 1e9)) % 1_000_000_000)
-
-
-def seconds_of(stamp) -> float:
-    return stamp.sec + stamp.nanosec * 1e-9
 
 
 class SimulatorNode(Node):
