@@ -9,7 +9,7 @@ Every trial gets a fresh simulator: the tile runs depend on what the simulator r
 
     .venv/bin/python scripts/experiments/terrain_library_sweep.py [--steps 24] [--edge 30]
         [--areas 100 400 625] [--seeds 1 2 3] [--balance stabilizer open_loop]
-        [--no-flat] [--no-edge] [--set ankle_damping_gain=0.02 ...]
+        [--no-flat] [--no-edge] [--heights 0.025 0.05] [--set ankle_damping_gain=0.02 ...]
 """
 import argparse
 import dataclasses
@@ -40,6 +40,10 @@ def main() -> None:
     parser.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
     parser.add_argument('--models', nargs='+', default=['three_mass', 'lipm'])
     parser.add_argument('--balance', nargs='+', default=['stabilizer', 'open_loop'])
+    parser.add_argument('--heights', type=float, nargs=2, default=[0.025, 0.05],
+                        metavar=('LOW', 'HIGH'), help='tile top heights (m); the paper: 0.025 '
+                        '0.05; a narrower spread measures how much unevenness a controller '
+                        'takes')
     parser.add_argument('--no-flat', action='store_true', help='skip the flat walk')
     parser.add_argument('--no-edge', action='store_true', help='skip standing on the edge')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
@@ -49,7 +53,8 @@ def main() -> None:
     robot = coman_like()
     trials = [] if args.no_flat else [('flat', None, args.steps)]
     trials += [] if args.no_edge else [('edge 25 mm', edge_terrain(0.025), 0)]
-    trials += [(f'tiles {area:g} cm2 seed {seed}', paper_terrain(area * 1e-4, seed), args.steps)
+    trials += [(f'tiles {area:g} cm2 seed {seed}',
+                paper_terrain(area * 1e-4, seed, heights=tuple(args.heights)), args.steps)
                for area in args.areas for seed in args.seeds]
     print('| trial | model | balance | fell | fall time (s) | COM x reached (m) | '
           'max tilt (deg) | wall (s) |')

@@ -77,8 +77,7 @@ def ik_targets(next_state: np.ndarray, feet_next: np.ndarray, support_next: int,
             next_state[:, state_index(RIGHT_LEG, POSITION)])
     latched = stance.latched
     held = stance.held(support_next)
-    grounds = [latched[side][2] for side in SIDES if held[side]]
-    ground = float(np.mean(grounds)) if grounds else 0.0
+    ground = stance.ground_height(support_next)
     feet = [latched[side].copy() if held[side] else
             np.array([swing_feet[side][0], swing_feet[side][1], feet_next[side][2] + ground,
                       feet_next[side][3]])

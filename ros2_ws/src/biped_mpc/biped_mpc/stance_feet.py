@@ -35,6 +35,7 @@ class StanceFeet:
         self._relatch = relatch_followers
         self._latched = [None, None]
         self._anchors = []
+        self._last_ground = 0.0
 
     def reset(self, soles: tuple) -> None:
         """Both feet on the ground where they are.
@@ -43,6 +44,7 @@ class StanceFeet:
         """
         self._latched = [sole_pose(*soles[side]) for side in SIDES]
         self._anchors = [LEFT, RIGHT]
+        self._last_ground = float(np.mean([latch[2] for latch in self._latched]))
 
     @property
     def latched(self) -> list:
@@ -82,6 +84,22 @@ class StanceFeet:
     def held(self, support: int) -> list:
         """[left, right]: the foot is latched and stays on the ground for this support label."""
         return [self._latched[side] is not None and on_support(side, support) for side in SIDES]
+
+    def ground_height(self, support: int) -> float:
+        """Mean height of the feet held for this support label, or the last one known.
+
+        Between the lift-off of the old stance foot and the confirmed touchdown of the new one
+        no foot is held; the ground is then where the feet last stood, not the world's zero
+        (on tiles 25-50 mm high that fallback dropped the pelvis target by 45 mm for a cycle).
+
+        :param support: the support label (SUPPORT_*) the targets are for
+        :return: ground height (m)
+        """
+        grounds = [self._latched[side][2] for side, held in enumerate(self.held(support))
+                   if held]
+        if grounds:
+            self._last_ground = float(np.mean(grounds))
+        return self._last_ground
 
     def project_legs(self, state: np.ndarray) -> None:
         """Put each stance leg's mass midway between its latched sole and the torso, in place.
