@@ -1,4 +1,4 @@
-"""Bring up the biped node graph: one process per node, like `ros2 launch` (not available here).
+"""Bring up the biped node graph: one process per node (or groups composed in one process).
 
 Starts each selected node with its parameter file, waits until every node is on the ROS graph,
 forwards their logs with a [node] prefix, and stops the whole graph (SIGINT, wait, SIGKILL) on
@@ -14,13 +14,18 @@ map_server at start with an error naming the file and field, and with it the gra
   .venv/bin/python scripts/bringup.py --sim-time --map FILE.yaml -p simulator:start_x:=0.5
   .venv/bin/python scripts/bringup.py --nodes state_machine --domain-id 7
   .venv/bin/python scripts/bringup.py --gui --sim-time -p simulator:lockstep:=false
+  .venv/bin/python scripts/bringup.py --compose control    # control path in one process
+  .venv/bin/python scripts/bringup.py --compose all        # every node in one process
+  .venv/bin/python scripts/bringup.py --compose simulator,mpc_controller \
+      --compose map_server,state_machine
 """
 import argparse
 from pathlib import Path
 import sys
 from typing import Dict, List
 
-from biped_tools.node_graph import available_nodes, GraphOptions, KNOWN_NODES, NodeGraph
+from biped_tools.node_graph import (available_nodes, CONTROL_PATH, GraphOptions, KNOWN_NODES,
+                                    NodeGraph)
 from biped_tools.stop_signal import stop_on_signals
 
 
@@ -44,6 +49,19 @@ def parse_params_files(values: List[str]) -> Dict[str, Path]:
     return files
 
 
+def parse_compose(values: List[str], nodes: List[str]) -> List[List[str]]:
+    """--compose values: 'control' (the control path), 'all', or node names joined by commas."""
+    groups = []
+    for value in values:
+        if value == 'control':
+            groups.append([n for n in CONTROL_PATH if n in nodes])
+        elif value == 'all':
+            groups.append(list(nodes))
+        else:
+            groups.append([n for n in value.split(',') if n])
+    return [g for g in groups if g]
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -64,6 +82,10 @@ def build_parser() -> argparse.ArgumentParser:
                              'PGM/PNG); default: an empty map around the start pose')
     parser.add_argument('--keep-going', action='store_true',
                         help='when a node dies, keep the others running')
+    parser.add_argument('--compose', action='append', default=[], metavar='GROUP',
+                        help='run a group of nodes in one process on one executor: '
+                             '"control" (simulator, reference_generator, mpc_controller), '
+                             '"all", or node names joined by commas; repeatable')
     parser.add_argument('--timeout', type=float, default=30.0,
                         help='seconds to wait for all nodes to come up')
     return parser
@@ -86,7 +108,8 @@ def main(argv=None) -> int:
                            overrides=parse_overrides(args.param), domain_id=args.domain_id,
                            backend=args.backend, gui=args.gui, use_sim_time=args.sim_time,
                            keep_going=args.keep_going,
-                           map_file=args.map.resolve() if args.map else None)
+                           map_file=args.map.resolve() if args.map else None,
+                           compose=parse_compose(args.compose, nodes))
     stop = stop_on_signals()
     try:
         graph = NodeGraph(options)

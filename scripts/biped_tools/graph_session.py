@@ -71,15 +71,17 @@ class GraphSession:
     def __init__(self, domain_id: int, bag_dir: Optional[Path] = None, nodes=None,
                  overrides=None, backend: str = 'pybullet', gui: bool = False,
                  keep_going: bool = False, map_file: Optional[Path] = None,
-                 log=print) -> None:
+                 compose=(), log=print) -> None:
         """:param map_file: the map map_server serves (nav2 YAML + image); None: an empty map
-            around the simulator's start pose"""
+            around the simulator's start pose
+        :param compose: groups of nodes each run in one process (NodeGraph)"""
         self.log = log
         self.domain_id = domain_id
         self.graph = NodeGraph(GraphOptions(
             nodes=list(nodes or ALL_NODES), overrides=dict(overrides or {}),
             domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
-            keep_going=keep_going, map_file=map_file),
+            keep_going=keep_going, map_file=map_file,
+            compose=[list(group) for group in compose]),
             log=log)
         self.map = None  # the last map received on `map` (an OccupancyGrid)
         self.bag_dir = bag_dir

@@ -6,6 +6,7 @@ SIGKILL), or reports the node that died. The command line is `scripts/bringup.py
 (biped_tools.bringup); GraphSession uses it in process.
 """
 from dataclasses import dataclass, field
+import json
 import os
 from pathlib import Path
 import signal
@@ -25,6 +26,7 @@ class NodeSpec:
     name: str
     package: str
     executable: str
+    node_class: str  # 'module:Class', for composition (biped_tools.node_container)
 
     @property
     def default_params(self) -> Path:
@@ -37,13 +39,22 @@ class NodeSpec:
 
 # Start order: producers of latched data first.
 KNOWN_NODES: Dict[str, NodeSpec] = {spec.name: spec for spec in [
-    NodeSpec('simulator', 'biped_sim', 'simulator'),
-    NodeSpec('map_server', 'biped_planner', 'map_server'),
-    NodeSpec('state_machine', 'biped_planner', 'state_machine'),
-    NodeSpec('footstep_planner', 'biped_planner', 'footstep_planner'),
-    NodeSpec('reference_generator', 'biped_planner', 'reference_generator'),
-    NodeSpec('mpc_controller', 'biped_mpc', 'mpc_controller'),
+    NodeSpec('simulator', 'biped_sim', 'simulator', 'biped_sim.nodes.simulator:SimulatorNode'),
+    NodeSpec('map_server', 'biped_planner', 'map_server',
+             'biped_planner.nodes.map_server:MapServerNode'),
+    NodeSpec('state_machine', 'biped_planner', 'state_machine',
+             'biped_planner.nodes.state_machine:StateMachineNode'),
+    NodeSpec('footstep_planner', 'biped_planner', 'footstep_planner',
+             'biped_planner.nodes.footstep_planner:FootstepPlannerNode'),
+    NodeSpec('reference_generator', 'biped_planner', 'reference_generator',
+             'biped_planner.nodes.reference_generator:ReferenceGeneratorNode'),
+    NodeSpec('mpc_controller', 'biped_mpc', 'mpc_controller',
+             'biped_mpc.nodes.mpc_controller:MpcControllerNode'),
 ]}
+
+# The control path: what runs every control period in lockstep (bringup --compose control).
+CONTROL_PATH = ('simulator', 'reference_generator', 'mpc_controller')
+CONTAINER = Path(__file__).resolve().parent.parent / 'node_container.py'
 
 
 # Nodes not given use_sim_time: the simulator makes the clock, and the controller keeps time by
@@ -71,6 +82,8 @@ class GraphOptions:
         the graph copes); by default the whole graph stops
     :param map_file: the map the map_server serves (a nav2 map YAML file); None: an empty map
         centred on the simulator's start pose
+    :param compose: groups of nodes each run in one process (composition); the nodes in no
+        group run one per process
     """
 
     nodes: List[str]
@@ -82,6 +95,33 @@ class GraphOptions:
     use_sim_time: bool = False
     keep_going: bool = False
     map_file: Optional[Path] = None
+    compose: List[List[str]] = field(default_factory=list)
+
+
+def process_groups(nodes: List[str], compose: List[List[str]]) -> List[List[str]]:
+    """The processes to start, in start order: each compose group (its nodes in start order)
+    at the place of its first node, every other node alone.
+
+    :raises ValueError: a composed node that is not started, or in two groups
+    """
+    seen = set()
+    for group in compose:
+        for name in group:
+            if name not in nodes:
+                raise ValueError(f'--compose names {name!r}, which is not started '
+                                 f'(nodes: {nodes})')
+            if name in seen:
+                raise ValueError(f'--compose names {name!r} in two groups')
+            seen.add(name)
+    groups, placed = [], set()
+    for name in nodes:
+        if name in placed:
+            continue
+        group = next((g for g in compose if name in g), [name])
+        group = [n for n in nodes if n in group]
+        groups.append(group)
+        placed.update(group)
+    return groups
 
 
 class NodeGraph:
@@ -95,6 +135,7 @@ class NodeGraph:
         if missing:
             raise FileNotFoundError(
                 f'nodes {missing} are not installed under {INSTALL}; run scripts/setup.sh')
+        self.groups = process_groups(list(options.nodes), [list(g) for g in options.compose])
         self.options = options
         self.log = log
         self.processes: Dict[str, subprocess.Popen] = {}
@@ -113,9 +154,21 @@ class NodeGraph:
         return env
 
     def command(self, name: str) -> List[str]:
+        """The command line of a node run alone."""
+        return [sys.executable, str(KNOWN_NODES[name].program)] + self.ros_arguments(name)
+
+    def group_command(self, group: List[str]) -> List[str]:
+        """The command line of a process: the node alone, or a container of the group."""
+        if len(group) == 1:
+            return self.command(group[0])
+        spec = {name: self.ros_arguments(name) for name in group}
+        return [sys.executable, str(CONTAINER), json.dumps(spec)]
+
+    def ros_arguments(self, name: str) -> List[str]:
+        """The node's ROS arguments: name, parameter file, parameters."""
         spec = KNOWN_NODES[name]
         params = self.options.params_files.get(name, spec.default_params)
-        args = [sys.executable, str(spec.program), '--ros-args', '-r', f'__node:={name}']
+        args = ['--ros-args', '-r', f'__node:={name}']
         if Path(params).exists():
             args += ['--params-file', str(params)]
         if self.options.use_sim_time and name not in CLOCK_FREE_NODES:
@@ -145,11 +198,14 @@ class NodeGraph:
 
     def start(self) -> None:
         env = self.environment()
-        width = max(len(n) for n in self.options.nodes)
-        for name in self.options.nodes:
-            process = subprocess.Popen(self.command(name), env=env, stdout=subprocess.PIPE,
-                                       stderr=subprocess.STDOUT, text=True, bufsize=1,
-                                       start_new_session=True)
+        width = max(len('+'.join(g)) for g in self.groups)
+        for group in self.groups:
+            name = '+'.join(group)
+            process_env = env if len(group) == 1 else dict(  # composed: lines name their node
+                env, RCUTILS_CONSOLE_OUTPUT_FORMAT='[{severity}] [{name}] {message}')
+            process = subprocess.Popen(self.group_command(group), env=process_env,
+                                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                       text=True, bufsize=1, start_new_session=True)
             self.processes[name] = process
             thread = threading.Thread(target=self._forward, args=(name.ljust(width), process),
                                       daemon=True)

@@ -10,6 +10,10 @@ once.
 The producer creates a LivelinessToken on `<stream>/alive` (std_msgs/Empty, never published);
 the consumer a LivelinessWatch on the same topic. A producer without a token (a user's own
 node) is unknown to the watch: the consumer falls back to its wall-time timeout.
+
+Nodes composed in one process share one DDS participant, and DDS raises no liveliness event
+between a participant's own readers and writers. A producer in the consumer's own process is
+alive for as long as the consumer runs, so the watch counts the tokens of its process too.
 """
 from rclpy.duration import Duration
 from rclpy.event_handler import SubscriptionEventCallbacks
@@ -25,27 +29,42 @@ def token_topic(stream: str) -> str:
     return f'{stream}/alive'
 
 
+# stream -> number of tokens created in this process (composed nodes)
+_LOCAL_TOKENS = {}
+
+
 class LivelinessToken:
     """Announces, for as long as this process lives, that it produces `stream`."""
 
     def __init__(self, node, stream: str) -> None:
         self.publisher = node.create_publisher(Empty, token_topic(stream), LIVELINESS)
+        _LOCAL_TOKENS[stream] = _LOCAL_TOKENS.get(stream, 0) + 1
 
 
 class LivelinessWatch:
     """How many producers of `stream` with a token are alive (DDS liveliness events)."""
 
     def __init__(self, node, stream: str) -> None:
+        self._stream = stream
         self.alive_count = 0
-        self.ever_alive = False
+        self._ever_remote = False
         self._subscription = node.create_subscription(
             Empty, token_topic(stream), lambda _msg: None, LIVELINESS,
             event_callbacks=SubscriptionEventCallbacks(liveliness=self._on_change))
 
     def _on_change(self, info) -> None:
         self.alive_count = int(info.alive_count)
-        self.ever_alive = self.ever_alive or self.alive_count > 0
+        self._ever_remote = self._ever_remote or self.alive_count > 0
+
+    @property
+    def local(self) -> bool:
+        """A producer of the stream runs in this process."""
+        return _LOCAL_TOKENS.get(self._stream, 0) > 0
+
+    @property
+    def ever_alive(self) -> bool:
+        return self._ever_remote or self.local
 
     @property
     def alive(self) -> bool:
-        return self.alive_count > 0
+        return self.alive_count > 0 or self.local
