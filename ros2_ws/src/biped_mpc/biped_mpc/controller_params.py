@@ -150,6 +150,10 @@ class WalkingControllerParams:
     touchdown_gate_distance: float = parameter(0.05, 'largest horizontal distance of the foot '
                                                'from its landing point for a touchdown (m)',
                                                low=0.001, high=1.0)
+    stabilizer_planned_support: bool = parameter(
+        True, 'the stabilizer distributes the wrench, damps the ankles and levels the feet '
+        'on the feet the plan has on the ground (Kajita), not only on detected contacts: a '
+        'landed foot hovering over a lower tile is pressed down by the force difference')
     contact_aware_landing: bool = parameter(False, 'an early contact stops the swing foot, a late '
                                             'one makes it keep descending')
     landing_descent_speed: float = parameter(0.15, 'descent speed of a late swing foot seeking '

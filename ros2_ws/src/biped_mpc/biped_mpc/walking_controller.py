@@ -78,7 +78,7 @@ from biped_mpc.model_hip import ModelHip
 from biped_mpc.pelvis_feedback import PelvisVelocityServo, posture_correction
 from biped_mpc.qp_backend import QpStatus
 from biped_mpc.reference_adapter import cycle_references, CycleReferences
-from biped_mpc.stance_feet import StanceFeet
+from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
 from biped_mpc.three_mass_model import three_mass_model
 from biped_planner.rotations import quaternion_to_matrix, rotation_x, rotation_y, rotation_z
@@ -246,7 +246,7 @@ class WalkingController:
         balance = None
         if sensed is not None:
             balance = self._stabilize(t, targets, sensed, soles, pelvis, rotation, command,
-                                      estimate.outputs)
+                                      estimate.outputs, references)
             targets = balance.targets
         ik = self._solve_ik(targets, pelvis, rotation)
         status = (STATUS_OK if references is not None else STATUS_REFERENCE_ERROR) \
@@ -365,7 +365,7 @@ class WalkingController:
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
                    pelvis: np.ndarray, rotation: np.ndarray, command: np.ndarray,
-                   outputs: np.ndarray) -> BalanceResult:
+                   outputs: np.ndarray, references: Optional[CycleReferences]) -> BalanceResult:
         """The stabilizer on the targets: the commanded state's DCM against the measured one.
 
         The measured centre of mass is the model's of the measured masses (legs midway between
@@ -387,8 +387,11 @@ class WalkingController:
                     if len(self._com_history) > 1 else np.zeros(2))
         dcm = com_xy + velocity / omega
         com = np.array([com_xy[0], com_xy[1], self._com_height])
+        planned = None
+        if self.params.stabilizer_planned_support and references is not None:
+            planned = tuple(on_support(side, references.support_now) for side in SIDES)
         return self._balance.update(t, self._dt, targets, sensed, soles, pelvis, reference,
-                                    com, dcm)
+                                    com, dcm, planned)
 
     def _solve_ik(self, targets: IkTargets, pelvis: np.ndarray, rotation: np.ndarray) -> _IkStep:
         """Joint setpoints of the targets, the pelvis moved by the servo and the posture lean."""

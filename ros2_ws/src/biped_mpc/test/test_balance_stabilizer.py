@@ -23,10 +23,10 @@ def foot_wrench(normal, cop_local, position):
 
 
 def measurement(normals=(MASS * 9.81 / 2,) * 2, cops=((0.0, 0.0), (0.0, 0.0)),
-                contacts=(True, True), dcm=(0.0, 0.0), heights=None):
+                contacts=(True, True), dcm=(0.0, 0.0), heights=None, planned=None):
     wrenches = tuple(foot_wrench(normals[s], cops[s], FEET[s]) for s in (LEFT, RIGHT))
     return StabilizerMeasurement(np.array([dcm[0], dcm[1], 0.497]), np.array(dcm), wrenches,
-                                 contacts, FEET, np.zeros(2), heights)
+                                 contacts, FEET, np.zeros(2), heights, planned)
 
 
 REFERENCE = StabilizerReference(np.zeros(2), np.zeros(2))
@@ -96,6 +96,25 @@ def test_single_support_gives_everything_to_the_stance_foot():
     np.testing.assert_allclose(output.wrenches[LEFT, 2], MASS * 9.81, rtol=1e-3)
     np.testing.assert_array_equal(output.ankle_offsets[RIGHT], 0.0)  # released at 1 rad/s
     assert output.diagnostics.contacts == (True, False)
+
+
+def test_a_planned_foot_not_yet_touching_gets_its_share_and_is_lowered():
+    weight = MASS * 9.81
+    # The plan has both feet down; the right one hovers over a lower tile: no force, no
+    # detected contact. With the detected contacts it is left alone (single support) ...
+    detected = run(Stabilizer(), 5, normals=(weight, 0.0), contacts=(True, False))
+    np.testing.assert_array_equal(detected.vertical_offsets, 0.0)
+    np.testing.assert_array_equal(detected.wrenches[RIGHT], 0.0)
+    # ... with the plan's support it carries half the weight and the force difference
+    # lowers it relative to the overloaded left foot: dz_dot = K_f (f_L - f_R - 0)
+    planned = run(Stabilizer(), 5, normals=(weight, 0.0), contacts=(True, False),
+                  planned=(True, True))
+    np.testing.assert_allclose(planned.wrenches[:, 2], weight / 2, rtol=1e-3)
+    dz = 1e-4 * weight * 5 * DT  # leak 0.1/s: within 1 %
+    np.testing.assert_allclose(planned.vertical_offsets, [dz / 2, -dz / 2], rtol=0.01)
+    # the measured ZMP stays the one of the detected contact: the left sole centre
+    np.testing.assert_allclose(planned.diagnostics.measured_zmp, FEET[LEFT, :2], atol=1e-12)
+    assert planned.diagnostics.contacts == (True, False)
 
 
 def test_in_the_air_only_the_dcm_feedback_runs():

@@ -280,7 +280,8 @@ class BalanceLoop:
 
     def update(self, t: float, dt: float, targets: IkTargets, sensed: SensedFeet,
                soles: tuple, pelvis: np.ndarray, reference: StabilizerReference,
-               com: np.ndarray, dcm: np.ndarray) -> BalanceResult:
+               com: np.ndarray, dcm: np.ndarray,
+               planned_feet: Optional[tuple] = None) -> BalanceResult:
         """Stabilize the IK targets of the cycle.
 
         :param t: time (s)
@@ -292,6 +293,8 @@ class BalanceLoop:
         :param reference: the MPC's ZMP and DCM (commanded state)
         :param com: (3,) estimated centre of mass (m)
         :param dcm: (2,) estimated DCM (m)
+        :param planned_feet: (left, right) feet the plan has on the ground, for the
+            stabilizer's support (StabilizerMeasurement.planned_feet); None: the detected ones
         :return: the stabilized targets and the diagnostics
         """
         feet = [targets.left_foot.copy(), targets.right_foot.copy()]
@@ -301,7 +304,8 @@ class BalanceLoop:
         reference = replace(reference, mean_sole_height=mean_target)
         measurement = StabilizerMeasurement(
             com, dcm, sensed.wrenches, sensed.contacts, positions,
-            np.array([yaw_of_matrix(soles[side][1]) for side in SIDES]), measured_mean)
+            np.array([yaw_of_matrix(soles[side][1]) for side in SIDES]), measured_mean,
+            planned_feet)
         output = self.stabilizer.update(dt, reference, measurement)
         modes = [PLANNED_SUPPORT, PLANNED_SUPPORT]
         for side in SIDES:

@@ -72,6 +72,12 @@ class StabilizerMeasurement:
     :param feet_positions: (2, 3) measured sole centres (m)
     :param feet_yaws: (2,) measured sole headings (rad)
     :param mean_sole_height: measured mean sole height relative to the pelvis (m), or None
+    :param planned_feet: (left, right) feet the plan has on the ground, or None. When given,
+        the support polygon, the wrench distribution, the foot damping and the force
+        difference act on these feet (Kajita's and lipm_walking_controller's contact state is
+        the plan's): a foot the plan has put down carries its share before its touchdown is
+        detected, and the force difference presses a foot that hovers a few millimetres
+        above a lower tile onto it. The measured ZMP always comes from the detected contacts.
     """
 
     com: np.ndarray
@@ -81,6 +87,7 @@ class StabilizerMeasurement:
     feet_positions: np.ndarray
     feet_yaws: np.ndarray
     mean_sole_height: Optional[float] = None
+    planned_feet: Optional[Tuple[bool, bool]] = None
 
 
 @dataclass(frozen=True)
@@ -191,6 +198,11 @@ class Stabilizer:
         contacts = tuple(bool(c) for c in measurement.contacts)
         if len(contacts) != 2 or len(measurement.wrenches) != 2:
             raise InputError('contacts and wrenches must have one entry per foot')
+        detected = [side for side in SIDES if contacts[side]]
+        if measurement.planned_feet is not None:
+            if len(measurement.planned_feet) != 2:
+                raise InputError('planned_feet must have one entry per foot')
+            contacts = tuple(bool(c) for c in measurement.planned_feet)
         touching = [side for side in SIDES if contacts[side]]
         in_the_air = not touching
         rotations = np.array([rotation_z(yaw) for yaw in yaws])
@@ -219,10 +231,11 @@ class Stabilizer:
                                                    positions, rotations)
             wrenches, local, status = (distribution.wrenches, distribution.local_wrenches,
                                        distribution.status)
-            measured_zmp = cop_of_feet(
-                [measurement.wrenches[s].force for s in touching],
-                [measurement.wrenches[s].torque for s in touching], positions[touching],
-                point)[:2]
+            if detected:
+                measured_zmp = cop_of_feet(
+                    [measurement.wrenches[s].force for s in detected],
+                    [measurement.wrenches[s].torque for s in detected], positions[detected],
+                    point)[:2]
 
         ankle_offsets, torque_errors = np.zeros((2, 2)), np.zeros((2, 2))
         for side in SIDES:
@@ -241,7 +254,7 @@ class Stabilizer:
         vertical = difference.offsets + drift.offset
         diagnostics = StabilizerDiagnostics(
             measured_zmp, dcm.zmp - measured_zmp, dcm.dcm_error, dcm.integral, dcm.clamped,
-            torque_errors, difference.error, (contacts[LEFT], contacts[RIGHT]), in_the_air,
+            torque_errors, difference.error, tuple(bool(c) for c in measurement.contacts), in_the_air,
             status)
         return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics)
 
