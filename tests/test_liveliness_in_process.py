@@ -18,8 +18,22 @@ def test_a_token_of_this_process_makes_its_stream_alive_and_no_other():
         other = LivelinessWatch(consumer, 'composed_test_other_stream')
         assert not watch.alive and not watch.ever_alive
         producer = rclpy.create_node('producer', context=context)
-        LivelinessToken(producer, 'composed_test_stream')
+        token = LivelinessToken(producer, 'composed_test_stream')  # noqa: F841 - kept alive
         assert watch.alive and watch.ever_alive
         assert not other.alive and not other.ever_alive
+        producer.destroy_node()  # gone with its node
+        assert not watch.alive
     finally:
         rclpy.try_shutdown(context=context)
+
+
+def test_a_token_of_another_context_is_not_counted_as_composed():
+    producer_context, consumer_context = new_context(), new_context()
+    try:
+        producer = rclpy.create_node('producer', context=producer_context)
+        token = LivelinessToken(producer, 'composed_test_stream_2')  # noqa: F841 - kept alive
+        consumer = rclpy.create_node('consumer', context=consumer_context)
+        assert not LivelinessWatch(consumer, 'composed_test_stream_2').local
+    finally:
+        rclpy.try_shutdown(context=producer_context)
+        rclpy.try_shutdown(context=consumer_context)

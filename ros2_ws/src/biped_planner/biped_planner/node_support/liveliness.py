@@ -11,10 +11,13 @@ The producer creates a LivelinessToken on `<stream>/alive` (std_msgs/Empty, neve
 the consumer a LivelinessWatch on the same topic. A producer without a token (a user's own
 node) is unknown to the watch: the consumer falls back to its wall-time timeout.
 
-Nodes composed in one process share one DDS participant, and DDS raises no liveliness event
-between a participant's own readers and writers. A producer in the consumer's own process is
-alive for as long as the consumer runs, so the watch counts the tokens of its process too.
+Nodes composed in one process share one DDS participant (one rclpy context), and DDS raises no
+liveliness event between a participant's own readers and writers. A producer in the consumer's
+own context is alive for as long as the consumer runs, so the watch counts the tokens of its
+context too, while their nodes exist.
 """
+import weakref
+
 from rclpy.duration import Duration
 from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import LivelinessPolicy, QoSProfile
@@ -29,16 +32,25 @@ def token_topic(stream: str) -> str:
     return f'{stream}/alive'
 
 
-# stream -> number of tokens created in this process (composed nodes)
-_LOCAL_TOKENS = {}
+_TOKENS = weakref.WeakSet()  # the tokens of this process
 
 
 class LivelinessToken:
     """Announces, for as long as this process lives, that it produces `stream`."""
 
     def __init__(self, node, stream: str) -> None:
+        self.stream = stream
+        self.context = node.context
         self.publisher = node.create_publisher(Empty, token_topic(stream), LIVELINESS)
-        _LOCAL_TOKENS[stream] = _LOCAL_TOKENS.get(stream, 0) + 1
+        _TOKENS.add(self)
+
+    def exists(self) -> bool:
+        """Its publisher (and so its node) has not been destroyed."""
+        try:
+            with self.publisher.handle:
+                return True
+        except Exception:  # noqa: B902 - rclpy's InvalidHandle once destroyed
+            return False
 
 
 class LivelinessWatch:
@@ -46,6 +58,7 @@ class LivelinessWatch:
 
     def __init__(self, node, stream: str) -> None:
         self._stream = stream
+        self._context = node.context
         self.alive_count = 0
         self._ever_remote = False
         self._subscription = node.create_subscription(
@@ -58,8 +71,9 @@ class LivelinessWatch:
 
     @property
     def local(self) -> bool:
-        """A producer of the stream runs in this process."""
-        return _LOCAL_TOKENS.get(self._stream, 0) > 0
+        """A producer of the stream runs in this context (composed with the consumer)."""
+        return any(token.stream == self._stream and token.context is self._context and
+                   token.exists() for token in list(_TOKENS))
 
     @property
     def ever_alive(self) -> bool:
