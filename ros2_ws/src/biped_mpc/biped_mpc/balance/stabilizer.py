@@ -254,7 +254,7 @@ class Stabilizer:
         vertical = difference.offsets + drift.offset
         diagnostics = StabilizerDiagnostics(
             measured_zmp, dcm.zmp - measured_zmp, dcm.dcm_error, dcm.integral, dcm.clamped,
-            torque_errors, difference.error, tuple(bool(c) for c in measurement.contacts), in_the_air,
-            status)
+            torque_errors, difference.error, tuple(bool(c) for c in measurement.contacts),
+            in_the_air, status)
         return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics)
 
