@@ -50,6 +50,7 @@ class PlanRequest:
     :param answer_owed: the user still waits for a status about it
     :param sent_at: wall time it was sent (s)
     :param plan_id: the plan id the planner announced when it accepted (0: not yet)
+    :param start_time: the clock time the walk it starts begins at, at the earliest (s)
     """
 
     request_id: int
@@ -59,6 +60,7 @@ class PlanRequest:
     answer_owed: bool
     sent_at: float
     plan_id: int = 0
+    start_time: float = 0.0
 
 
 class PlanRequests:
@@ -79,15 +81,17 @@ class PlanRequests:
         return self._start_id is not None
 
     def new(self, kind: RequestKind, command: int, starts_walk: bool, answer_owed: bool,
-            wall: float) -> Tuple[PlanRequest, Optional[PlanRequest]]:
+            wall: float, start_time: float = 0.0) -> Tuple[PlanRequest, Optional[PlanRequest]]:
         """Make a request with a fresh id.
+
+        :param start_time: clock time the walk it starts begins at, at the earliest (s)
 
         :return: the request, and the start request it supersedes (a newer request to start a
             walk replaces the older one, whose plan will not be walked), or None
         """
         self._last_id = self._last_id % MAX_REQUEST_ID + 1
         request = PlanRequest(self._last_id, RequestKind(kind), int(command), bool(starts_walk),
-                              bool(answer_owed), float(wall))
+                              bool(answer_owed), float(wall), start_time=float(start_time))
         superseded = None
         if starts_walk:
             superseded = self._close(self._start_id)

@@ -14,7 +14,7 @@ from typing import Optional, Sequence, Tuple
 from biped_planner.errors import ConfigError
 from biped_planner.footsteps import Footstep
 from biped_planner.reference_params import ReferenceParams
-from biped_planner.reference_window import ReferenceWindow
+from biped_planner.reference_window import joined_at, ReferenceWindow
 from biped_planner.standing_reference import standing_window
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import WalkingReference
@@ -123,10 +123,19 @@ class ReferenceSession:
                standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:
         """References for n samples from t: the walk's, or standing on standing_feet.
 
+        Before a walk's start (a start_time ahead of the clock) the samples are the standing
+        ones, whenever its plan arrived: what the robot tracks until then does not depend on
+        that arrival time.
+
         :return: the window, or None when there is neither a reference nor standing feet
         """
         if self._reference is not None:
-            return self._reference.sample(t, n, dt)
+            window = self._reference.sample(t, n, dt)
+            if standing_feet is not None and self._walk_start is not None and \
+                    t < self._walk_start:
+                window = joined_at(standing_window(*standing_feet, self._params, t, n, dt),
+                                   window, self._walk_start)
+            return window
         if standing_feet is None:
             return None
         return standing_window(*standing_feet, self._params, t, n, dt)

@@ -3,7 +3,7 @@
 The contract between biped_planner and biped_mpc; its message form is
 biped_planner.node_support.reference_messages (biped_msgs/ReferenceTrajectory).
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -50,3 +50,20 @@ class ReferenceWindow:
     right_landing_max: np.ndarray
     support: np.ndarray
     step_index: np.ndarray
+
+
+def joined_at(before: ReferenceWindow, after: ReferenceWindow, t_join: float) -> ReferenceWindow:
+    """The samples of `before` at times < t_join, those of `after` from t_join on.
+
+    :param before: a window
+    :param after: a window at the same sample times
+    :param t_join: time of the first sample taken from `after` (s)
+    :return: the joined window
+    """
+    early = np.asarray(before.t) < t_join
+    values = {}
+    for field in fields(ReferenceWindow):
+        first, second = getattr(before, field.name), getattr(after, field.name)
+        mask = early.reshape((-1,) + (1,) * (np.ndim(second) - 1))
+        values[field.name] = np.where(mask, first, second).astype(np.asarray(second).dtype)
+    return ReferenceWindow(**values)

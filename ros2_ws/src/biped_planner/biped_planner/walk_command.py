@@ -159,6 +159,27 @@ def velocity_command(linear, angular, limits: CommandLimits) -> tuple:
     return values[0], values[1], values[5]
 
 
+MAX_START_LEAD = 60.0  # s: a start_time farther ahead is refused (a typo, not a plan)
+
+
+def start_time_of(start_time, now: float) -> float:
+    """When a walk asked to start at start_time starts: at start_time, or now if that is past.
+
+    :param start_time: the command's start_time (s); 0: at once
+    :param now: the clock now (s)
+    :return: the start time (s), >= now
+    :raises CommandError: for a start_time that is not finite, negative, or more than
+        MAX_START_LEAD ahead of now
+    """
+    if isinstance(start_time, bool) or not isinstance(start_time, (int, float)) or \
+            not math.isfinite(start_time) or start_time < 0.0:
+        raise CommandError(f'start_time must be a finite time >= 0 s, got {start_time!r}')
+    if start_time > now + MAX_START_LEAD:
+        raise CommandError(f'start_time {start_time:.3f} s is more than {MAX_START_LEAD:g} s '
+                           f'ahead of the clock ({now:.3f} s)')
+    return max(float(start_time), float(now))
+
+
 def check_command_frame(command: WalkCommand, frame_id: str, expected_frame: str) -> None:
     """A GOTO command's goal is in the map frame: its header may name it or leave it empty
     (biped_msgs/WalkCommand defines the goal in the map frame).

@@ -1,4 +1,5 @@
 """Tests of the plans the reference session accepts."""
+import numpy as np
 import pytest
 
 from biped_planner.errors import ConfigError
@@ -19,3 +20,28 @@ def test_a_plan_of_straight_steps_passes():
 def test_plans_the_robot_cannot_walk_are_refused(footsteps, words):
     with pytest.raises(ConfigError, match=words):
         check_footsteps(footsteps, 1000.0, 1.0)
+
+
+def test_before_a_scheduled_start_the_window_stands_whenever_the_plan_came():
+    """A walk whose start is ahead of the clock: the samples before it are the standing ones
+    (the same as before its plan arrived), the ones from it on the walk's."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.standing_reference import standing_window
+    from biped_planner.step_timing import StepTiming
+    steps = straight_footsteps(4, 0.1, 0.14)
+    params = ReferenceParams()
+    session = ReferenceSession(params)
+    standing = (steps[0], steps[1]) if steps[0].y > 0 else (steps[1], steps[0])
+    session.set_plan(1, steps, StepTiming(0.4, 0.2), 0.0)
+    assert session.start_walk(2.0)
+    window = session.window(1.5, 50, 0.02, standing)
+    still = standing_window(*standing, params, 1.5, 50, 0.02)
+    early = window.t < 2.0
+    assert early.sum() == 25
+    np.testing.assert_array_equal(window.hip[early], still.hip[early])
+    np.testing.assert_array_equal(window.zmp_min[early], still.zmp_min[early])
+    walk = session.window(2.0, 25, 0.02, standing)
+    np.testing.assert_allclose(window.hip[~early], walk.hip, atol=1e-9)  # t rounding
+    np.testing.assert_array_equal(window.support[~early], walk.support)

@@ -97,3 +97,18 @@ def test_a_goto_command_may_leave_its_frame_empty_but_not_name_another():
     with pytest.raises(FrameError, match="'odom'"):
         check_command_frame(goto, 'odom', 'map')
     check_command_frame(make(CommandKind.START), 'odom', 'map')  # no goal, no frame
+
+
+def test_a_walk_starts_at_its_start_time_or_at_once_when_that_is_past():
+    from biped_planner.walk_command import MAX_START_LEAD, start_time_of
+    assert start_time_of(12.5, 10.0) == 12.5
+    assert start_time_of(0.0, 10.0) == 10.0   # 0: at once
+    assert start_time_of(9.0, 10.0) == 10.0   # already past: at once
+    assert start_time_of(10.0 + MAX_START_LEAD, 10.0) == 10.0 + MAX_START_LEAD
+
+
+@pytest.mark.parametrize('start_time', [math.nan, math.inf, -1.0, 1e30, True, '1'])
+def test_a_start_time_that_is_not_a_time_or_too_far_ahead_is_refused(start_time):
+    from biped_planner.walk_command import start_time_of
+    with pytest.raises(CommandError, match='start_time'):
+        start_time_of(start_time, 10.0)

@@ -242,7 +242,15 @@ class MpcControllerNode(Node):
     def _on_joint_states(self, msg: JointState) -> None:
         if not self._accept('joint_states', msg):
             return
-        self._period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        if period == self._last_cycle and self._last_command is not None and \
+                (self._last_command.header.stamp.sec,
+                 self._last_command.header.stamp.nanosec) == period:
+            # The simulator sent this period again: its answer was lost (at start-up, before
+            # DDS matched the two); the same command again, not a second cycle.
+            self._command_pub.publish(self._last_command)
+            return
+        self._period = period
         self._joint_states_arrival = time.monotonic()  # for the cycle latency diagnostic
         self._poll_deadline = self._joint_states_arrival + SENSOR_POLL_TIMEOUT
         self._take_sensors()
@@ -356,6 +364,7 @@ class MpcControllerNode(Node):
         if window is None:
             self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING,
                                                    hold_reason, self._params))
+            self._last_cycle = None  # unanswered: the simulator's repeat of it runs again
             return
         try:
             if not self._started:
@@ -395,6 +404,7 @@ class MpcControllerNode(Node):
         message = f'holding the joints: {why}'
         self.get_logger().error(message, throttle_duration_sec=2.0)
         if self._last_command is None:
+            self._last_cycle = None  # unanswered: the simulator's repeat of it runs again
             self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING, why,
                                                    self._params))
             return

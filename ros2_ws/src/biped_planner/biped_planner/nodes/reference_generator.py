@@ -107,6 +107,7 @@ class ReferenceGeneratorNode(Node):
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self.create_timer(WATCH_PERIOD, self._check_inputs, clock=wall)
         self.create_timer(DIAGNOSTICS_PERIOD, self._publish_diagnostics, clock=wall)
+        self.create_timer(WATCH_PERIOD, self._on_held_clock, clock=wall)
         self.get_logger().info(f'reference generator ready ({self._horizon} samples of '
                                f'{self._dt} s)')
 
@@ -241,6 +242,18 @@ class ReferenceGeneratorNode(Node):
         sent_ahead = self._sent_ns is not None and \
             now_ns - self._period_ns // 2 <= self._sent_ns <= now_ns + 2 * self._period_ns
         if not sent_ahead:
+            self._send(now_ns)
+
+    def _on_held_clock(self) -> None:
+        """A clock that does not move (lockstep before the controller's first command) fires
+        no sim-time timer: the reference of the current time goes out from the wall clock, and
+        again while the clock stays there (the first one can go out before the controller's
+        subscription is matched)."""
+        clock = self.get_clock()
+        if not clock.ros_time_is_active:
+            return
+        now_ns = clock.now().nanoseconds
+        if self._sent_ns is None or self._sent_ns <= now_ns:
             self._send(now_ns)
 
     def _check_inputs(self) -> None:

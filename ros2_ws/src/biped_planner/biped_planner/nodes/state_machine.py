@@ -51,7 +51,7 @@ from biped_planner.plan_requests import (PlanRequests, PlanUse, RequestKind,
                                          walk_request_refusal)
 from biped_planner.pose_checks import PoseBounds, PoseStream
 from biped_planner.teleop_gate import TeleopAction, TeleopGate
-from biped_planner.walk_command import CommandKind, CommandLimits
+from biped_planner.walk_command import CommandKind, CommandLimits, start_time_of
 from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
                                                  WALKING_PHASES, WalkingStateMachine)
 
@@ -193,13 +193,15 @@ class StateMachineNode(Node):
             self._publish_transitions(self._stop(now, 'stop requested', msg), now)
             self._answer(kind, CommandStatus.OK)
         else:
-            if command.step_time > 0.0:
-                try:
+            try:
+                start_time = start_time_of(msg.start_time, now)
+                if command.step_time > 0.0:
                     self._machine.set_step_time(command.step_time)
-                except CommandError as error:
-                    self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
-                    return
-            self._request_walk(now, kind, RequestKind.COMMAND, command=msg)
+            except CommandError as error:
+                self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
+                return
+            self._request_walk(now, kind, RequestKind.COMMAND, start_time=start_time,
+                               command=msg)
 
     def _on_goal(self, msg: PoseStamped) -> None:
         """A goal pose (the RViz convention) starts a walk to it, once the planner's plan for
@@ -231,10 +233,12 @@ class StateMachineNode(Node):
             self.get_logger().info('cmd_vel while the walk stops: a new walk follows it once '
                                    'idle', throttle_duration_sec=2.0)
 
-    def _request_walk(self, now: float, user_command: int, kind: RequestKind, **content) -> None:
+    def _request_walk(self, now: float, user_command: int, kind: RequestKind,
+                      start_time: float = 0.0, **content) -> None:
         """Start or steer a walk: through the planner (once discovered, within
         planner_timeout: whether it is discovered yet at startup must not change the walk), or
-        in place without one (use_planner false)."""
+        in place without one (use_planner false). A walk that starts begins at start_time, or
+        when its plan arrives if that is later."""
         walking = self._walking()
         planner = self._use_planner
         refusal = walk_request_refusal(
@@ -248,12 +252,12 @@ class StateMachineNode(Node):
             if not walking:
                 self._machine.set_plan(None)  # in place, until stopped
                 self._plan_id, self._plan = 0, None
-            self._publish_transitions(self._machine.request_start(now), now)
+            self._publish_transitions(self._machine.request_start(max(now, start_time)), now)
             self._teleop.driving = kind == RequestKind.VELOCITY
             self._answer(user_command, CommandStatus.OK)
             return
         request, superseded = self._requests.new(kind, user_command, not walking, True,
-                                                 time.monotonic())
+                                                 time.monotonic(), start_time)
         if superseded is not None and superseded.answer_owed:
             self._answer(superseded.command, CommandStatus.NOT_ALLOWED,
                          f'superseded by request {request.request_id} before its plan arrived')
@@ -349,7 +353,8 @@ class StateMachineNode(Node):
             self._machine.set_plan(None if plan.continuous else plan.steps,
                                    None if plan.first_support is None else
                                    Support(plan.first_support), planned=True)
-            transitions = self._machine.request_start(now) if use == PlanUse.START else []
+            transitions = self._machine.request_start(
+                max(now, request.start_time)) if use == PlanUse.START else []
         except CommandError as error:
             self._reject(PLAN, f'plan {plan.plan_id} not used: {error}')
             if request is not None and request.answer_owed:

@@ -251,6 +251,10 @@ class SimulatorNode(Node):
             self._timer.timer_period_ns = period_ns
         timeout = float(self.get_parameter('lockstep_timeout').value)
         now = time.monotonic()
+        if self._lockstep() and not self._controller_seen and \
+                self.get_parameter('wait_for_controller').value:
+            self._hold_clock_for_controller(now, timeout)
+            return
         if not self._lockstep() or self._controller_lost or not (
                 self._controller_seen or self._command_sub.get_publisher_count() > 0):
             if self._controller_seen and not self._controller_lost and \
@@ -275,6 +279,17 @@ class SimulatorNode(Node):
                                       f'{silent:.2f} s: stepping with the last one',
                                       throttle_duration_sec=5.0)
         self._step()
+
+    def _hold_clock_for_controller(self, now: float, timeout: float) -> None:
+        """Before the first command: the clock stays where it is and the sensors go out again,
+        for a controller that subscribed after they were sent."""
+        if now - self._last_step_wall < timeout:
+            return
+        self._last_step_wall = now
+        self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s until a '
+                               'controller answers on joint_commands', throttle_duration_sec=5.0)
+        if self._readings is not None:
+            self._publish(self._readings)
 
     def _report_waiting(self, silent: float) -> None:
         self.get_logger().warning(

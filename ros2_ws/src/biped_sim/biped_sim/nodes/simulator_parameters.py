@@ -52,6 +52,10 @@ SIMULATOR_PARAMETERS = {
                          'joint_commands/alive), or without that token, is then lost: the servos '
                          'hold its last positions, the clock runs in real time (s)',
                          (0.01, 60.0)),
+    'wait_for_controller': (False, 'lockstep: hold the clock at its start (publishing the '
+                            'first sensor readings again every lockstep_timeout) until the '
+                            'first joint command, so that a run does not depend on how long '
+                            'the controller took to start', None),
     'hung_controller_timeout': (10.0, 'wall time without a command after which a controller '
                                 'whose process is alive is lost all the same (hung) (s)',
                                 (0.1, 3600.0)),
@@ -91,6 +95,7 @@ SIMULATOR_PARAMETERS = {
 
 # Read at start only (declared read-only): the rest can change while running.
 LIVE_PARAMETERS = ('lockstep', 'lockstep_timeout', 'hung_controller_timeout', 'real_time_factor',
+                   'wait_for_controller',
                    'setpoint_parts', 'command_margin', 'max_command_velocity', 'reset_hold',
                    'start_x', 'start_y', 'start_yaw')
 READ_ONLY = tuple(name for name in SIMULATOR_PARAMETERS if name not in LIVE_PARAMETERS)
