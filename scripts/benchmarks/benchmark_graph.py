@@ -15,7 +15,10 @@ The observer is part of the measurement, not of the graph: by default it subscri
 it measures (joint_states, joint_commands, walking_state for falls), so that it takes as little
 of the two cores from the graph as possible. `--observer session` measures with the demo's and
 tests' GraphSession instead, which also keeps odom, com, zmp, references and diagnostics (its
-own load slows the graph). Prints a Markdown table of medians and p99 over several runs.
+own load slows the graph). Prints a Markdown table of medians and p99 over several runs, one
+row per way of putting the nodes into processes (`--compositions separate control all`).
+`--real-time` runs the simulator in real time instead (lockstep off), as on a robot: then the
+late commands per 10,000 periods are the figure (`--runs 1 --seconds 200`: 10,000 periods).
 """
 import argparse
 import statistics
@@ -75,11 +78,12 @@ class MinimalObserver:
     """The graph and a client node that only sends the walk command and takes the probe's
     timings."""
 
-    def __init__(self, domain_id: int, compose) -> None:
+    def __init__(self, domain_id: int, compose, real_time: bool = False) -> None:
         self.domain_id = domain_id
-        self.graph = NodeGraph(GraphOptions(nodes=list(ALL_NODES), domain_id=domain_id,
-                                            use_sim_time=True, compose=compose),
-                               log=lambda line: None)
+        self.graph = NodeGraph(GraphOptions(
+            nodes=list(ALL_NODES), domain_id=domain_id, use_sim_time=True, compose=compose,
+            overrides={'simulator': ['lockstep:=false']} if real_time else {}),
+            log=lambda line: None)
         self._context = None
         self.node = None
         self._fallen = False
@@ -149,8 +153,10 @@ class MinimalObserver:
 class SessionObserver(MinimalObserver):
     """The graph as GraphSession (demo, tests) runs and watches it."""
 
-    def __init__(self, domain_id: int, compose) -> None:
-        self.session = GraphSession(domain_id, compose=compose, log=lambda line: None)
+    def __init__(self, domain_id: int, compose, real_time: bool = False) -> None:
+        self.session = GraphSession(
+            domain_id, compose=compose, log=lambda line: None,
+            overrides={'simulator': ['lockstep:=false']} if real_time else None)
 
     def __enter__(self) -> 'SessionObserver':
         self.session.start()
@@ -177,9 +183,10 @@ class SessionObserver(MinimalObserver):
         return self.session.fallen()
 
 
-def measure(domain_id: int, seconds: float, observer: str, compose) -> dict:
+def measure(domain_id: int, seconds: float, observer: str, compose,
+            real_time: bool = False) -> dict:
     kind = MinimalObserver if observer == 'minimal' else SessionObserver
-    with kind(domain_id, compose) as run:
+    with kind(domain_id, compose, real_time) as run:
         run.wait_until_ready()
         run.start_walking()
         run.wait_sim_time(WARM_UP, 60)
@@ -207,6 +214,9 @@ def main(argv=None) -> int:
     parser.add_argument('--domain-id', type=int, default=61)
     parser.add_argument('--observer', choices=['minimal', 'session'], default='minimal',
                         help='client that watches the graph (see above)')
+    parser.add_argument('--real-time', action='store_true',
+                        help='the simulator runs in real time (lockstep off), as a robot does: '
+                             'the late commands are the figure that matters')
     parser.add_argument('--compositions', nargs='+', choices=list(COMPOSITIONS),
                         default=list(COMPOSITIONS),
                         help='separate: one process per node; control: the control path '
@@ -219,11 +229,12 @@ def main(argv=None) -> int:
     for _ in range(args.runs):
         for name in args.compositions:
             results[name].append(measure(args.domain_id, args.seconds, args.observer,
-                                         COMPOSITIONS[name]))
+                                         COMPOSITIONS[name], args.real_time))
             print(f'{name}: ' + ', '.join(f'{k} {v:.2f}' for k, v in results[name][-1].items()),
                   flush=True)
     print()
-    print(f'Whole graph in lockstep, walking in place, {args.runs} runs of {args.seconds:.0f} '
+    mode = 'in real time' if args.real_time else 'in lockstep'
+    print(f'Whole graph {mode}, walking in place, {args.runs} runs of {args.seconds:.0f} '
           f'simulated s each, {args.observer} observer; medians over runs unless said:')
     print()
     print('| processes | real-time factor, median / worst | joint_states -> joint_commands '
