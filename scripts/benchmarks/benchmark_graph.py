@@ -38,6 +38,11 @@ COMPOSITIONS = {
 }
 
 
+def clock_overrides(real_time: bool) -> dict:
+    """Node parameters of the benchmark's clock: lockstep (the default) or real time."""
+    return {'simulator': ['lockstep:=false']} if real_time else {}
+
+
 def stamp_key(msg) -> tuple:
     return msg.header.stamp.sec, msg.header.stamp.nanosec
 
@@ -82,8 +87,7 @@ class MinimalObserver:
         self.domain_id = domain_id
         self.graph = NodeGraph(GraphOptions(
             nodes=list(ALL_NODES), domain_id=domain_id, use_sim_time=True, compose=compose,
-            overrides={'simulator': ['lockstep:=false']} if real_time else {}),
-            log=lambda line: None)
+            overrides=clock_overrides(real_time)), log=lambda line: None)
         self._context = None
         self.node = None
         self._fallen = False
@@ -154,9 +158,8 @@ class SessionObserver(MinimalObserver):
     """The graph as GraphSession (demo, tests) runs and watches it."""
 
     def __init__(self, domain_id: int, compose, real_time: bool = False) -> None:
-        self.session = GraphSession(
-            domain_id, compose=compose, log=lambda line: None,
-            overrides={'simulator': ['lockstep:=false']} if real_time else None)
+        self.session = GraphSession(domain_id, compose=compose, log=lambda line: None,
+                                    overrides=clock_overrides(real_time))
 
     def __enter__(self) -> 'SessionObserver':
         self.session.start()

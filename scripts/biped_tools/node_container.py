@@ -13,6 +13,7 @@ import sys
 from typing import Callable, Dict, List
 
 from biped_planner.node_support.node_runner import run_nodes
+from biped_tools.node_graph import KNOWN_NODES
 
 
 def node_factory(class_path: str, name: str, ros_args: List[str]) -> Callable:
@@ -37,7 +38,6 @@ def parse_spec(text: str) -> Dict[str, List[str]]:
 
 
 def main(argv=None) -> int:
-    from biped_tools.node_graph import KNOWN_NODES
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 1:
         print(__doc__, file=sys.stderr)

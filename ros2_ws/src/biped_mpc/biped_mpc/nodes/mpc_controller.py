@@ -243,9 +243,7 @@ class MpcControllerNode(Node):
         if not self._accept('joint_states', msg):
             return
         period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
-        if period == self._last_cycle and self._last_command is not None and \
-                (self._last_command.header.stamp.sec,
-                 self._last_command.header.stamp.nanosec) == period:
+        if period == self._last_cycle and self._answered(period):
             # The simulator sent this period again: its answer was lost (at start-up, before
             # DDS matched the two); the same command again, not a second cycle.
             self._command_pub.publish(self._last_command)
@@ -320,11 +318,9 @@ class MpcControllerNode(Node):
             return
         silent = time.monotonic() - self._joint_states_arrival
         timeout = self.get_parameter('sensor_loss_timeout').value
-        answered = self._last_command is not None and self._period is not None and \
-            (self._last_command.header.stamp.sec,
-             self._last_command.header.stamp.nanosec) == self._period
         # unanswered, a simulator in lockstep waits for this controller: give it longer
-        if silent >= (timeout if answered else UNANSWERED_FACTOR * timeout):
+        if silent >= (timeout if self._answered(self._period) else
+                      UNANSWERED_FACTOR * timeout):
             message = (f'holding a stance: sensors stale: no joint_states for {silent:.1f} s '
                        f'(simulator lost)')
             self.get_logger().error(message, throttle_duration_sec=5.0)
@@ -362,9 +358,7 @@ class MpcControllerNode(Node):
         for event in self._supervisor.take_events():
             self.get_logger().warning(event)
         if window is None:
-            self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING,
-                                                   hold_reason, self._params))
-            self._last_cycle = None  # unanswered: the simulator's repeat of it runs again
+            self._wait_unanswered(stamp, hold_reason)
             return
         try:
             if not self._started:
@@ -404,9 +398,7 @@ class MpcControllerNode(Node):
         message = f'holding the joints: {why}'
         self.get_logger().error(message, throttle_duration_sec=2.0)
         if self._last_command is None:
-            self._last_cycle = None  # unanswered: the simulator's repeat of it runs again
-            self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING, why,
-                                                   self._params))
+            self._wait_unanswered(stamp, why)
             return
         command = JointState(name=list(self._last_command.name),
                              position=list(self._last_command.position))
@@ -414,6 +406,18 @@ class MpcControllerNode(Node):
         self._command_pub.publish(command)
         self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.HOLDING, message,
                                                self._params))
+
+    def _wait_unanswered(self, stamp, why: str) -> None:
+        """WAITING, the period left unanswered: the simulator's repeat of it runs again."""
+        self._last_cycle = None
+        self._diag_pub.publish(diagnostics_msg(stamp, ControllerDiagnostics.WAITING, why,
+                                               self._params))
+
+    def _answered(self, period) -> bool:
+        """The last command sent answers this period ((sec, nanosec) of its joint_states)."""
+        return self._last_command is not None and period is not None and (
+            self._last_command.header.stamp.sec,
+            self._last_command.header.stamp.nanosec) == period
 
     # --- reset (walking_state.epoch) --------------------------------------------------------
     def _take_epoch(self) -> None:

@@ -102,6 +102,7 @@ class ReferenceGeneratorNode(Node):
         self._soles_seen = False
         self._period_ns = int(round(1e9 / float(get('rate'))))
         self._sent_ns = None  # stamp of the newest reference sent
+        self._held_ns = None  # the clock at the last wall-clock check (_on_held_clock)
         self.create_subscription(JointState, 'joint_commands', self._on_command, 10)
         self.create_timer(1.0 / float(get('rate')), self._on_timer)
         wall = Clock(clock_type=ClockType.STEADY_TIME)
@@ -253,7 +254,9 @@ class ReferenceGeneratorNode(Node):
         if not clock.ros_time_is_active:
             return
         now_ns = clock.now().nanoseconds
-        if self._sent_ns is None or self._sent_ns <= now_ns:
+        held, self._held_ns = now_ns == self._held_ns, now_ns
+        # a moving clock is served by _on_timer and _on_command: no second copy from here
+        if self._sent_ns is None or (held and self._sent_ns <= now_ns):
             self._send(now_ns)
 
     def _check_inputs(self) -> None:
