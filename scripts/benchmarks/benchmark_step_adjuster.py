@@ -17,7 +17,7 @@ import math
 import time
 
 from biped_mpc.balance.measured_dcm import MeasuredDcm
-from biped_mpc.balance.step_adjuster import OnlineStepAdjuster
+from biped_planner.step_adjuster import OnlineStepAdjuster
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_sim import push_trial
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig

@@ -35,8 +35,8 @@ from biped_mpc.linear_mpc import MpcParams
 from biped_mpc.lipm_model import lipm_model, LipmParams
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_plant import PlantParams
-from biped_mpc.balance.step_adjuster import OnlineStepAdjusterParams
-from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_planner.step_adjuster import OnlineStepAdjusterParams
+from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_sim.model_walk import run_walk, walk, WalkSetup
 from biped_sim.walk_log import optimal_fraction, tracking_rms
 from biped_sim.push_recovery import (

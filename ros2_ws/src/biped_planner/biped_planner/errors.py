@@ -29,6 +29,10 @@ class InputError(BipedPlannerError, ValueError):
     """A message from another node is malformed or physically impossible."""
 
 
+class SolverUnavailableError(BipedPlannerError, ImportError):
+    """A solver was requested whose Python package is not installed."""
+
+
 class StartOutsideMapError(PlanningError):
     """The start lies outside the map."""
 

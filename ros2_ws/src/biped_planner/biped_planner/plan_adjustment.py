@@ -1,6 +1,6 @@
 """What a step adjuster needs to know of a walking plan, and how an adjusted landing moves it.
 
-The planner side of step adjustment (the QP itself is biped_mpc.balance.step_adjustment): the
+The planner side of step adjustment (the QP itself is biped_planner.step_adjustment): the
 step under way at a time, read from a WalkingReference, and the later landings carried along
 with a moved landing so that the rest of the walk keeps its shape.
 """

@@ -23,8 +23,8 @@ from typing import Optional
 
 import numpy as np
 
-from biped_mpc.balance.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
-from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_mpc.linear_model import LinearModel, N_PLANES, N_STATES, POSITION, state_index
 from biped_mpc.linear_mpc import LinearMpc, MpcParams
 from biped_mpc.reference_adapter import outputs_from_window

@@ -21,8 +21,8 @@ from typing import Optional
 import numpy as np
 
 from biped_mpc.balance.measured_dcm import MeasuredDcm
-from biped_mpc.balance.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
-from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.sides import SUPPORT_LEFT, SUPPORT_RIGHT
 from biped_planner.step_timing import StepTiming

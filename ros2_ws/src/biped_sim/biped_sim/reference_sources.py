@@ -1,7 +1,7 @@
 """Where the closed-loop runner gets its reference windows: a fixed plan or live commands.
 
 :class:`PlannedWalk` samples a WalkingReference of a footstep plan; :class:`AdjustedWalk` does
-too, after letting an online step adjuster (biped_mpc.balance.step_adjuster) move the step
+too, after letting an online step adjuster (biped_planner.step_adjuster) move the step
 under way from the robot's estimated DCM. :class:`CommandedWalk`
 plans footsteps from omnidirectional step commands (OmnidirectionalStepper, the paper's
 tele-operation mode), appended with WalkingReference.extend so that the plan stays a fixed

@@ -1,8 +1,8 @@
 """The paper's MATLAB push test with online step adjustment, and the paper's own criterion."""
 import numpy as np
 
-from biped_mpc.balance.step_adjuster import OnlineStepAdjusterParams
-from biped_mpc.balance.step_adjustment import StepAdjustmentParams
+from biped_planner.step_adjuster import OnlineStepAdjusterParams
+from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_mpc.three_mass_model import three_mass_model
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_walk import walk, WalkSetup

@@ -15,9 +15,8 @@ reset(...) and update(...), and returns a frozen result dataclass:
 - swing_landing: contact-seeking swing end and the support timing events it raises.
 - stabilizer: one control cycle of all of the above, wired together.
 - balance_loop: the stabilizer in the walking controller's cycle (sensing, contacts, targets).
-- measured_dcm: the DCM of the measured three-mass state (pelvis + leg kinematics).
-- capture_point, step_adjustment: LIPM capture-point closed forms and the step location and
-  timing QP; step_adjuster: that QP each cycle of a single support, replanning rarely.
+- measured_dcm: the DCM of the measured three-mass state (pelvis + leg kinematics), what the
+  step adjuster (biped_planner.step_adjuster, run by the reference generator) answers.
 
 Frames: world x forward, y left, z up; a sole frame has its origin at the sole centre and z
 along the sole normal. Wrenches are (fx, fy, fz, tx, ty, tz) in N and N m.

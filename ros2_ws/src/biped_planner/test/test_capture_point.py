@@ -1,14 +1,14 @@
-"""Closed forms of biped_mpc.balance.capture_point against integration and each other."""
+"""Closed forms of biped_planner.capture_point against integration and each other."""
 import math
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from biped_mpc.balance.capture_point import (
+from biped_planner.capture_point import (
     dcm, dcm_at, instantaneous_capture_point, lipm_state_at, n_step_capture_bound,
     natural_frequency)
-from biped_mpc.errors import InputError
+from biped_planner.errors import InputError
 
 OMEGA = natural_frequency(0.5, 9.81)
 

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from biped_mpc.balance.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
-from biped_mpc.balance.step_adjustment import StepAdjustmentParams
-from biped_mpc.errors import ConfigError, InputError
+from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+from biped_planner.step_adjustment import StepAdjustmentParams
+from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams

@@ -11,7 +11,7 @@ from typing import Sequence, Tuple
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, InputError, SolverUnavailableError
+from biped_planner.errors import ConfigError, InputError, SolverUnavailableError
 from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.sides import LEFT, SIDES
 

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from biped_mpc.balance.capture_point import (
+from biped_planner.capture_point import (
     dcm_at, instantaneous_capture_point, lipm_state_at)
-from biped_mpc.balance.step_adjustment import (
+from biped_planner.step_adjustment import (
     SOLVERS, STATUS_BLOCKED, STATUS_FAILED, STATUS_OPTIMAL, STATUS_SATURATED, StepAdjuster,
     StepAdjustmentParams)
-from biped_mpc.errors import ConfigError, InputError
+from biped_planner.errors import ConfigError, InputError
 from biped_planner.sides import LEFT, RIGHT
 
 PARAMS = StepAdjustmentParams()

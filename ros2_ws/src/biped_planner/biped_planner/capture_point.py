@@ -18,7 +18,7 @@ from typing import Tuple
 
 import numpy as np
 
-from biped_mpc.errors import InputError
+from biped_planner.errors import InputError
 
 
 def natural_frequency(com_height: float, gravity: float = 9.81) -> float:

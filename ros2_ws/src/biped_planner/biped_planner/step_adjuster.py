@@ -1,6 +1,6 @@
 """Online step adjustment: each control cycle, the next footstep from the DCM and the plan.
 
-Wraps the QP of biped_mpc.balance.step_adjustment around a WalkingReference: it reads the
+Wraps the QP of biped_planner.step_adjustment around a WalkingReference: it reads the
 step under way (biped_planner.plan_adjustment), solves the QP against the step as first
 planned, and when the answer moves the landing or its time beyond a threshold (a bounded
 number of times per step) it returns a reference replanned mid-step
@@ -13,12 +13,12 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from biped_mpc.balance.step_adjustment import (STATUS_BLOCKED, STATUS_FAILED, StepAdjuster,
-                                               StepAdjustment, StepAdjustmentParams)
-from biped_mpc.errors import ConfigError
-from biped_mpc.validation import finite_array
+from biped_planner.errors import ConfigError, InputError
+from biped_planner.input_checks import check_finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.plan_adjustment import moved_landings, swing_step_at
+from biped_planner.step_adjustment import (STATUS_BLOCKED, STATUS_FAILED, StepAdjuster,
+                                           StepAdjustment, StepAdjustmentParams)
 
 
 @dataclass(frozen=True)
@@ -134,8 +134,8 @@ class OnlineStepAdjuster:
         """
         if not self.params.enabled:
             return StepAdjusterOutput(reference, self.revision, False)
-        com = finite_array('com', com, (2,))
-        dcm = finite_array('dcm', dcm, (2,))
+        com = check_finite_array('com', com, (2,), InputError)
+        dcm = check_finite_array('dcm', dcm, (2,), InputError)
         swing = self._swing_step(reference, t)
         if swing is None:
             self._nominal = None
