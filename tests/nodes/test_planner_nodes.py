@@ -3,8 +3,8 @@ real rclpy, real DDS, sim time driven by the test. The user talks to the state m
 asks the planner for plans over plan_walk."""
 import math
 
-from biped_msgs.msg import (CommandStatus, FootstepPlan, ReferenceTrajectory, WalkCommand,
-                            WalkingState)
+from biped_msgs.msg import (BalanceEstimate, CommandStatus, FootstepPlan, ReferenceTrajectory,
+                            StepAdjustment, WalkCommand, WalkingState)
 from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
@@ -45,9 +45,20 @@ def goal(x, y, yaw=0.0, frame='map'):
 
 @pytest.fixture
 def graph(ros_context, executor):
+    return make_graph(ros_context, executor)
+
+
+@pytest.fixture
+def adjusting_graph(ros_context, executor):
+    """The graph with the reference generator's step adjuster on."""
+    return make_graph(ros_context, executor, [Parameter('step_adjustment.enabled', value=True)])
+
+
+def make_graph(ros_context, executor, reference_parameters=()):
     sim_time = [Parameter('use_sim_time', value=True)]
     for make in (StateMachineNode, FootstepPlannerNode, ReferenceGeneratorNode):
-        executor.track(make(context=ros_context, parameter_overrides=sim_time))
+        extra = list(reference_parameters) if make is ReferenceGeneratorNode else []
+        executor.track(make(context=ros_context, parameter_overrides=sim_time + extra))
     client = executor.track(rclpy.create_node('planner_test_client', context=ros_context))
     g = dict(client=client, executor=executor, clock=SimClock(client, executor))
     g['plans'] = Collector(client, FootstepPlan, 'footstep_plan', LATCHED)
@@ -244,3 +255,66 @@ def test_a_step_index_no_walk_can_have_neither_hangs_nor_derails_the_planner(gra
     response = call_plan_walk(g, PlanWalk.Request(
         request_id=99, kind=PlanWalk.Request.KIND_VELOCITY, velocity=Twist()))
     assert response.accepted and response.plan_id == first.plan_id
+
+
+def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references(
+        adjusting_graph):
+    """A balance estimate whose DCM strays 15 cm to the left in a single support on the right
+    foot: the reference generator moves the left landing out, says so on step_adjustment, and
+    its references carry it (a higher plan_revision); the planner republishes the plan with it
+    (same plan_id) and steps on from it; the state machine follows the touchdown."""
+    g = adjusting_graph
+    adjustments = Collector(g['client'], StepAdjustment, 'step_adjustment', 10)
+    estimates = g['client'].create_publisher(BalanceEstimate, 'balance_estimate', 10)
+    assert wait_for_subscribers(g['executor'], estimates, count=1, timeout=15)
+    g['cmd_vel'].publish(Twist())  # walk in place
+    first = latest_plan(g)
+
+    def in_single_support():
+        states = g['states'].messages
+        return states and states[-1].phase == WalkingState.SINGLE_SUPPORT and \
+            states[-1].support_foot == WalkingState.SUPPORT_RIGHT and \
+            states[-1].time_in_phase < 0.1
+    for _ in range(80):
+        g['clock'].advance(0.05, pace=2.0)
+        g['cmd_vel'].publish(Twist())
+        if in_single_support():
+            break
+    assert in_single_support(), 'no single support on the right foot'
+    state = g['states'].messages[-1]
+    reference = g['refs'].messages[-1]
+    omega = math.sqrt(9.81 / 0.5)
+    hip = np.array([reference.hip_x[0], reference.hip_y[0]])
+    velocity = (np.array([reference.hip_x[1], reference.hip_y[1]]) - hip) / reference.dt
+    estimate = BalanceEstimate(omega=omega)
+    estimate.header.frame_id = 'map'
+    estimate.header.stamp = reference.header.stamp
+    estimate.com.x, estimate.com.y = float(hip[0]), float(hip[1])
+    dcm = hip + velocity / omega + [0.0, 0.15]
+    estimate.dcm.x, estimate.dcm.y = float(dcm[0]), float(dcm[1])
+    plans = len(g['plans'].messages)
+    estimates.publish(estimate)
+    assert adjustments.wait_for(g['executor'], lambda m: len(m) >= 1, 10.0), 'no adjustment'
+    adjusted = adjustments.messages[0]
+    assert adjusted.plan_id == first.plan_id and adjusted.step_index == state.step_index
+    landing = adjusted.footsteps[adjusted.step_index + 2]
+    planned = [p for p in g['plans'].messages if p.plan_id == first.plan_id][-1]
+    assert landing.side == 0 and landing.y > planned.footsteps[state.step_index + 2].y + 0.02
+    # the planner republishes the adjusted plan, same id
+    republished = latest_plan(g, count=plans)
+    assert republished.plan_id == first.plan_id
+    assert republished.footsteps[adjusted.step_index + 2].y == pytest.approx(landing.y)
+    # the references carry it
+    g['clock'].advance(0.1, pace=2.0)
+    newest = g['refs'].messages[-1]
+    assert newest.plan_revision >= 1
+    window = window_from_reference_msg(newest)
+    assert window.left_foot[-1, 1] == pytest.approx(landing.y, abs=0.05)
+    # the state machine's single support ends at the adjusted touchdown
+    g['clock'].advance(0.6, pace=2.0)
+    ends = [s for s in g['states'].messages if s.phase == WalkingState.DOUBLE_SUPPORT and
+            s.step_index == adjusted.step_index]
+    assert ends, 'the adjusted step never landed'
+    double_start = ends[0].header.stamp.sec + ends[0].header.stamp.nanosec * 1e-9 - \
+        ends[0].time_in_phase
+    assert double_start == pytest.approx(adjusted.touchdown_time, abs=0.011)

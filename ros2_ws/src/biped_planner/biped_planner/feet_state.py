@@ -37,6 +37,26 @@ class FeetState:
         self.footsteps: List[Footstep] = [self.feet[other_side(first_swing)],
                                           self.feet[first_swing]]
 
+    @classmethod
+    def from_footsteps(cls, footsteps, step_width: float,
+                       limits: KinematicLimits) -> 'FeetState':
+        """The state after a footstep list (>= 2 footsteps; checked by the caller): each foot
+        at its last footstep, the body beside the last landing, the other foot swinging next.
+
+        :param footsteps: initial feet, then landings
+        """
+        state = cls.__new__(cls)
+        state.half_width = 0.5 * step_width
+        state.limits = limits
+        state.feet = {}
+        for step in footsteps:
+            state.feet[step.side] = step
+        last = footsteps[-1]
+        state.swing = other_side(last.side)
+        state.body = body_beside(last, state.half_width)
+        state.footsteps = list(footsteps)
+        return state
+
     def land(self, x: float, y: float, yaw: float) -> Footstep:
         """The transition: the swing foot lands beside the body pose (x, y, yaw), clamped.
 

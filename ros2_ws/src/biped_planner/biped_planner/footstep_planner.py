@@ -18,7 +18,7 @@ inflated map), so the footsteps follow straight lines and real turns only.
 """
 from dataclasses import dataclass
 import math
-from typing import List, Optional
+from typing import List, Optional, Sequence
 
 import numpy as np
 
@@ -223,7 +223,39 @@ class FootstepPlanner:
         else:
             check_side('first_swing', first_swing)
         state = FeetState(start, params.step_width, first_swing, params.limits)
-        action = FirstOrderLag(params.lag_time_constant, [0.0, 0.0])
+        return self._walk_to(state, line, goal, FirstOrderLag(params.lag_time_constant,
+                                                              [0.0, 0.0]))
+
+    def plan_from_footsteps(self, planner: AStarPlanner, footsteps: Sequence[Footstep],
+                            goal: Pose2D) -> FootstepPlan:
+        """Go on to the goal from footsteps already walked or committed (a step adjuster moved
+        a landing): A* from the body beside the last footstep, then footsteps along the path,
+        walking on at the nominal step length.
+
+        :param footsteps: >= 2 footsteps, initial feet first; kept as they are
+        :return: the path and the whole footstep list (footsteps, then the new landings)
+        :raises PlanningError: (a subclass) if A* finds no path or the steps do not converge
+        """
+        check_type('goal', goal, Pose2D)
+        if len(footsteps) < 2:
+            raise ConfigError(f'at least 2 footsteps are needed, got {len(footsteps)}')
+        params = self._params
+        state = FeetState.from_footsteps(tuple(footsteps), params.step_width, params.limits)
+        start = state.body
+        grid_path = planner.plan((start.x, start.y), (goal.x, goal.y))
+        points = grid_path.points.copy()
+        points[0] = (start.x, start.y)
+        points[-1] = (goal.x, goal.y)
+        path = shortcut_path(points, planner)
+        line = _Polyline(np.vstack(([start.x, start.y], path, [goal.x, goal.y])))
+        walking = FirstOrderLag(params.lag_time_constant, [params.step_length, 0.0])
+        return FootstepPlan(grid_path, path, self._walk_to(state, line, goal, walking))
+
+    def _walk_to(self, state: FeetState, line: '_Polyline', goal: Pose2D,
+                 action: FirstOrderLag) -> List[Footstep]:
+        """Land footsteps from state along line until the body stands at the goal."""
+        params = self._params
+        goal_xy = np.array([goal.x, goal.y])
         progress = 0.0
         for _ in range(params.max_steps):
             body = np.array([state.body.x, state.body.y])

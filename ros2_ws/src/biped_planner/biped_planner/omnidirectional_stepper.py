@@ -148,6 +148,15 @@ class OmnidirectionalStepper:
         forward, sideways, turn = (float(v) for v in self._filter.update(target, step_time))
         return self._step(forward, sideways, turn)
 
+    def adopt(self, footsteps) -> None:
+        """Go on from these footsteps (a step adjuster moved a landing and the later ones with
+        it); the command filter keeps its state.
+
+        :param footsteps: the footstep list, >= 2 footsteps of alternating sides
+        """
+        self._feet = FeetState.from_footsteps(footsteps, self._params.step_width,
+                                              self._params.limits)
+
     def close(self) -> Footstep:
         """A final step that brings the swing foot beside the stance foot (no filtering); the
         filter is reset to zero so that the next walk starts gently.

@@ -5,17 +5,18 @@ then footsteps), by omnidirectional step commands (teleop, the paper's X, Y, alp
 (a zero command). Teleop plans are continuous: they are kept `lookahead` steps ahead of the step
 the robot is taking, so a new command changes only steps that have not started, and the reference
 can be extended smoothly. A stop replaces everything after the current step by one closing step
-that puts the feet side by side.
+that puts the feet side by side. When a step adjuster moved a landing, the plan goes on from
+where the foot lands: a goal walk is planned anew from there, a teleop walk steps on from it.
 
 Step indices are those of the walking state machine: during single support of step k (0-based),
 the swing foot is moving to footsteps[k + 2].
 """
 from dataclasses import dataclass
 import enum
-from typing import List, Optional, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 from biped_planner.astar import AStarPlanner
-from biped_planner.errors import InputError
+from biped_planner.errors import InputError, PlanningError
 from biped_planner.footstep_planner import FootstepPlanner
 from biped_planner.footsteps import foot_beside, Footstep
 from biped_planner.input_checks import check_integer
@@ -75,6 +76,7 @@ class PlanSession:
         self._step_time = 0.5
         self._continuous = False
         self._path: Tuple[Tuple[float, float], ...] = ()
+        self._goal: Optional[Tuple[AStarPlanner, Pose2D]] = None
 
     @property
     def mode(self) -> PlanMode:
@@ -99,6 +101,46 @@ class PlanSession:
         self._continuous = False
         self._path = tuple((float(x), float(y)) for x, y in plan.path)
         self._stepper = None
+        self._goal = (astar, goal)
+        return self._update()
+
+    def adopt_adjustment(self, plan_id: int, step_index: int,
+                         footsteps: Sequence[Footstep]) -> Optional[PlanUpdate]:
+        """A step adjuster moved the landing of step step_index (and the later landings with
+        it): plan on from where that foot lands.
+
+        A goal walk is planned anew from the adjusted landing to its goal (the translated
+        later landings would end the walk off the goal by the adjustment); when no path is
+        found from there, the translated landings are kept. A teleop walk steps on from the
+        adjusted footsteps; a stopping walk keeps them.
+
+        :param plan_id: the adjusted plan; another plan's adjustment changes nothing
+        :param step_index: the adjusted step (it lands footsteps[step_index + 2])
+        :param footsteps: the whole adjusted footstep list
+        :return: the plan to publish, None for another plan's adjustment
+        :raises InputError: when the adjustment changes footsteps before the adjusted landing
+            or its step index is outside the plan
+        """
+        if plan_id != self._plan_id or not self._footsteps:
+            return None
+        footsteps = tuple(footsteps)
+        check_integer('step_index', step_index, 0, max(0, len(footsteps) - 3),
+                      error=InputError)
+        landing = step_index + 2
+        if footsteps[:landing] != tuple(self._footsteps[:landing]):
+            raise InputError(f'the adjustment of step {step_index} changes footsteps before '
+                             f'its landing (footsteps[{landing}])')
+        self._footsteps = list(footsteps)
+        if self._mode == PlanMode.GOTO and self._goal is not None:
+            astar, goal = self._goal
+            try:
+                plan = self._planner.plan_from_footsteps(astar, footsteps[:landing + 1], goal)
+            except PlanningError:
+                return self._update()
+            self._footsteps = list(plan.footsteps)
+            self._path = tuple((float(x), float(y)) for x, y in plan.path)
+        elif self._mode == PlanMode.TELEOP and self._stepper is not None:
+            self._stepper.adopt(self._footsteps)
         return self._update()
 
     def teleop(self, command: StepCommand, step_time: float, start: Pose2D,

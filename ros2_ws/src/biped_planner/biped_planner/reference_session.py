@@ -5,17 +5,21 @@ reference is the WalkingReference of the walk's footstep plan with t_start = wal
 reference's initial shift, single and double supports line up with the state machine's phases
 (given the same durations). A plan that changes while walking (teleop extension, a stop's closing
 step) is spliced in with WalkingReference.extend from its first changed footstep. Between walks
-the last reference holds its final standing pose.
+the last reference holds its final standing pose. With an online step adjuster, the step under
+way moves (location and touchdown) when the measured DCM asks for it: the session's reference is
+then the adjusted one, and the adjustment is returned for the rest of the graph to follow.
 """
 from dataclasses import dataclass
 import math
 from typing import Optional, Sequence, Tuple
 
-from biped_planner.errors import ConfigError
+from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
+from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_window import joined_at, ReferenceWindow
 from biped_planner.standing_reference import standing_window
+from biped_planner.step_adjuster import OnlineStepAdjuster
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import WalkingReference
 
@@ -42,6 +46,31 @@ def check_footsteps(footsteps: Sequence[Footstep], workspace: float, max_step: f
                                   f'{index - 1} (> {max_step} m)')
 
 
+MAX_ESTIMATE_OFFSET = 0.5  # m: a COM estimate farther from the plan's is not the walking robot's
+
+
+@dataclass(frozen=True)
+class AppliedAdjustment:
+    """A step the adjuster moved: what the planner and the state machine must follow.
+
+    :param plan_id: the walked plan
+    :param revision: adjustments of this walk so far
+    :param step_index: the step under way (it lands footsteps[step_index + 2])
+    :param touchdown: its adjusted touchdown time (s)
+    :param planned_touchdown: its touchdown before the adjustment (s)
+    :param footsteps: the whole adjusted footstep list
+    :param dcm_error: (x, y) estimated DCM minus the plan's at the time (m), what moved it
+    """
+
+    plan_id: int
+    revision: int
+    step_index: int
+    touchdown: float
+    planned_touchdown: float
+    footsteps: Tuple[Footstep, ...]
+    dcm_error: Tuple[float, float] = (0.0, 0.0)
+
+
 @dataclass(frozen=True)
 class _Plan:
     plan_id: int
@@ -52,8 +81,13 @@ class _Plan:
 class ReferenceSession:
     """Builds and updates the reference of the current walk."""
 
-    def __init__(self, params: ReferenceParams) -> None:
+    def __init__(self, params: ReferenceParams,
+                 adjuster: Optional[OnlineStepAdjuster] = None) -> None:
+        """:param adjuster: the online step adjuster, None (or disabled) to walk plans as
+            they are"""
         self._params = params
+        self._adjuster = adjuster if adjuster is not None and adjuster.params.enabled else None
+        self._adjustments = 0
         self._plan: Optional[_Plan] = None
         self._reference: Optional[WalkingReference] = None
         self._reference_plan_id: Optional[int] = None
@@ -72,6 +106,47 @@ class ReferenceSession:
     def plan_revision(self) -> int:
         """Revision of the walked reference: one more at every extension or step adjustment."""
         return self._reference.revision if self._reference is not None else 0
+
+    @property
+    def adjustments(self) -> int:
+        """Steps the online adjuster moved in this session (every walk)."""
+        return self._adjustments
+
+    def adjust(self, t: float, com: Sequence[float], dcm: Sequence[float],
+               zmp: Optional[Sequence[float]] = None) -> Optional[AppliedAdjustment]:
+        """Let the online step adjuster answer the balance estimated at t.
+
+        :param t: time of the estimate (s)
+        :param com: (2,) estimated horizontal centre of mass (m)
+        :param dcm: (2,) estimated DCM (m)
+        :param zmp: (2,) measured ZMP (m) or None
+        :return: the adjustment when the step under way moved, else None (no adjuster, no
+            walk, not in single support, or the step stays)
+        :raises InputError: for non-finite estimates, or a COM farther than
+            MAX_ESTIMATE_OFFSET from the plan's
+        """
+        if self._adjuster is None or self._reference is None or self._walk_start is None or \
+                t < self._walk_start:
+            return None
+        before = self._reference
+        planned = before.lipm.state_at(t)[0]
+        offset = math.hypot(float(com[0]) - planned[0], float(com[1]) - planned[1])
+        if not offset <= MAX_ESTIMATE_OFFSET:
+            raise InputError(f'the estimated COM {tuple(com)} is {offset:.3g} m from the plan\'s '
+                             f'(> {MAX_ESTIMATE_OFFSET} m): not a robot walking it')
+        output = self._adjuster.update(t, before, com, dcm, zmp)
+        if not output.applied:
+            return None
+        self._reference = output.reference
+        self._adjustments += 1
+        step = before.single_support_at(t)
+        phase = before.phases[step]
+        adjusted = output.reference.phases[step]
+        planned_dcm = swing_step_at(before, t).reference_dcm(t)
+        return AppliedAdjustment(self.plan_id, output.revision, phase.step_index - 1,
+                                 float(adjusted.t_end), float(phase.t_end),
+                                 tuple(output.reference.footsteps),
+                                 (float(dcm[0]) - planned_dcm[0], float(dcm[1]) - planned_dcm[1]))
 
     def adjust_step(self, t_now: float, landings: Sequence[Footstep], touchdown: float,
                     hip: Optional[Sequence[float]] = None,
@@ -146,6 +221,8 @@ class ReferenceSession:
                                            t_start=self._walk_start)
         self._reference_plan_id = plan.plan_id
         self._last_walked_plan_id = plan.plan_id
+        if self._adjuster is not None:
+            self._adjuster.reset()
 
     def _splice(self, footsteps: Tuple[Footstep, ...], timing: StepTiming, t_now: float) -> str:
         old = self._reference.footsteps

@@ -172,6 +172,25 @@ class WalkingStateMachine:
         if first_support is not None:
             self._first_support = Support(first_support)
 
+    def retime_single_support(self, step_index: int, end: float) -> bool:
+        """The step adjuster moved the touchdown of the step under way: its single support ends
+        at `end` (the phases after it keep their durations, as in the adjusted reference).
+
+        :param step_index: the adjusted step
+        :param end: the new end of its single support (clock time, s); already past: the next
+            update() ends it
+        :return: whether it applied (False: the machine is not in that step's single support)
+        :raises CommandError: if end is not finite
+        """
+        check_number('end', end, unit=' s', error=CommandError)
+        status = self._status
+        if status.phase != Phase.SINGLE_SUPPORT or status.step_index != step_index or \
+                end <= status.phase_start:
+            return False
+        self._status = replace(status, phase_duration=float(end) - status.phase_start,
+                               reason='touchdown moved by the step adjuster')
+        return True
+
     def request_start(self, t: float) -> List[WalkingStatus]:
         """Start walking (from Idle), or cancel a pending stop (while walking).
 

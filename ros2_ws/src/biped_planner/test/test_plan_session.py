@@ -57,3 +57,56 @@ def test_a_stop_while_standing_drops_the_plan_and_the_next_command_starts_a_new_
     assert s.teleop(StepCommand(), 0.6, Pose2D(1.0, 0.0)).plan_id == 2
     s.walk_finished()
     assert s.teleop(StepCommand(), 0.6, Pose2D(1.0, 0.0)).plan_id == 3
+
+
+def moved(footsteps, index, dx, dy):
+    from biped_planner.plan_adjustment import moved_landings
+    step = footsteps[index]
+    return tuple(footsteps[:index]) + moved_landings(footsteps, index,
+                                                     (step.x + dx, step.y + dy))
+
+
+def test_a_teleop_walk_steps_on_from_an_adjusted_landing():
+    s = session()
+    plan = s.teleop(StepCommand(0.1, 0.0, 0.0), 0.6, Pose2D(0.0, 0.0))
+    adjusted = moved(plan.footsteps, 2, 0.05, -0.04)
+    update = s.adopt_adjustment(plan.plan_id, 0, adjusted)
+    assert update.plan_id == plan.plan_id and update.footsteps == adjusted
+    new = s.on_step(1).footsteps[-1]
+    unadjusted = session()
+    unadjusted.teleop(StepCommand(0.1, 0.0, 0.0), 0.6, Pose2D(0.0, 0.0))
+    planned = unadjusted.on_step(1).footsteps[-1]
+    # the next landing keeps its place relative to the moved feet
+    assert (new.x - planned.x, new.y - planned.y) == pytest.approx((0.05, -0.04), abs=1e-9)
+
+
+def test_a_goal_walk_is_planned_anew_from_the_adjusted_landing_to_its_goal():
+    from biped_planner.astar import AStarPlanner
+    from biped_planner.example_maps import paper_start_goal_example
+    grid, start, goal = paper_start_goal_example()
+    astar = AStarPlanner(grid)
+    s = session()
+    plan = s.goto(astar, start, goal)
+    adjusted = moved(plan.footsteps, 4, -0.06, 0.05)
+    update = s.adopt_adjustment(plan.plan_id, 2, adjusted)
+    assert update.footsteps[:5] == adjusted[:5]
+    last_two = update.footsteps[-2:]
+    end = ((last_two[0].x + last_two[1].x) / 2, (last_two[0].y + last_two[1].y) / 2)
+    tolerance = FootstepPlannerParams().goal_tolerance + 0.01
+    assert abs(end[0] - goal.x) < tolerance and abs(end[1] - goal.y) < tolerance
+    # the translated landings would have ended off the goal by the adjustment
+    translated = adjusted[-2:]
+    off = ((translated[0].x + translated[1].x) / 2 - goal.x,
+           (translated[0].y + translated[1].y) / 2 - goal.y)
+    assert max(abs(off[0]), abs(off[1])) > 0.04
+
+
+def test_an_adjustment_of_another_plan_or_of_walked_footsteps_changes_nothing():
+    s = session()
+    plan = s.teleop(StepCommand(0.1, 0.0, 0.0), 0.6, Pose2D(0.0, 0.0))
+    assert s.adopt_adjustment(plan.plan_id + 1, 0, moved(plan.footsteps, 2, 0.05, 0.0)) is None
+    with pytest.raises(InputError, match='before its landing'):
+        s.adopt_adjustment(plan.plan_id, 1, moved(plan.footsteps, 2, 0.05, 0.0))
+    with pytest.raises(InputError, match='step_index'):
+        s.adopt_adjustment(plan.plan_id, 99, plan.footsteps)
+    assert s.on_step(0) is None and s.on_step(1).footsteps[:5] == plan.footsteps

@@ -45,3 +45,52 @@ def test_before_a_scheduled_start_the_window_stands_whenever_the_plan_came():
     walk = session.window(2.0, 25, 0.02, standing)
     np.testing.assert_allclose(window.hip[~early], walk.hip, atol=1e-9)  # t rounding
     np.testing.assert_array_equal(window.support[~early], walk.support)
+
+
+def test_the_session_moves_the_step_under_way_and_reports_what_moved():
+    """A lateral DCM error in single support of step 1 (1.5 .. 1.9 s, the right foot swinging
+    to footsteps[3]) moves that landing; the report is what the rest of the graph follows."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+    from biped_planner.step_timing import StepTiming
+    steps = straight_footsteps(4, 0.1, 0.2)
+    bare = OnlineStepAdjusterParams(dcm_deadband=0.0, ankle_authority=0.0,
+                                    location_threshold=1e-6, timing_threshold=1e-6)
+    session = ReferenceSession(ReferenceParams(), OnlineStepAdjuster(bare))
+    session.set_plan(7, steps, StepTiming(0.4, 0.1), 0.0)
+    assert session.adjust(1.6, (0.0, 0.0), (0.0, 0.0)) is None  # no walk yet
+    session.start_walk(0.0)
+    hip, dcm = session.reference.lipm.state_at(1.6)
+    assert session.adjust(1.6, hip, dcm) is None  # on the plan
+    assert session.adjust(1.45, hip, dcm + [0.0, -0.05]) is None  # double support
+    adjustment = session.adjust(1.6, hip, dcm + [0.0, -0.05])
+    assert adjustment.plan_id == 7 and adjustment.revision == 1 and adjustment.step_index == 1
+    assert adjustment.planned_touchdown == pytest.approx(1.9)
+    landing, planned = adjustment.footsteps[3], steps[3]
+    assert landing.y < planned.y - 0.01  # towards the error, outwards under the right foot
+    assert adjustment.footsteps[:3] == tuple(steps[:3])
+    reference = session.reference
+    assert adjustment.footsteps == tuple(reference.footsteps)
+    assert session.plan_revision == reference.revision >= 1 and session.adjustments == 1
+    single = reference.single_support_at(1.6)
+    assert adjustment.touchdown == pytest.approx(reference.phases[single].t_end)
+    assert ReferenceSession(ReferenceParams()).adjust(1.6, hip, dcm) is None  # no adjuster
+
+
+def test_an_estimate_far_from_the_plan_is_refused_not_answered():
+    from biped_planner.errors import InputError
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import MAX_ESTIMATE_OFFSET, ReferenceSession
+    from biped_planner.step_adjuster import OnlineStepAdjuster
+    from biped_planner.step_timing import StepTiming
+    session = ReferenceSession(ReferenceParams(), OnlineStepAdjuster())
+    session.set_plan(1, straight_footsteps(4, 0.1, 0.2), StepTiming(0.4, 0.1), 0.0)
+    session.start_walk(0.0)
+    hip, dcm = session.reference.lipm.state_at(1.6)
+    far = hip + [MAX_ESTIMATE_OFFSET + 0.01, 0.0]
+    with pytest.raises(InputError, match='from the plan'):
+        session.adjust(1.6, far, far)
+    assert session.adjustments == 0

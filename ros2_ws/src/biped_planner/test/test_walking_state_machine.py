@@ -158,3 +158,31 @@ def test_a_planned_walk_ignores_a_plain_stop_until_its_plan_ends():
     run(machine, 1.2)
     machine.request_stop(1.2)
     assert all(s.phase != Phase.IDLE for s in run(machine, 3.0, t0=1.2))
+
+
+def test_an_adjusted_touchdown_moves_the_end_of_that_single_support_only():
+    """The step adjuster's new touchdown ends the single support; the later phases keep their
+    durations (as in the adjusted reference)."""
+    machine = WalkingStateMachine(PARAMS)
+    machine.request_start(0.0)
+    run(machine, 1.55)  # single support of step 1: 1.5 .. 1.9 s
+    assert machine.status.phase == Phase.SINGLE_SUPPORT and machine.status.step_index == 1
+    assert not machine.retime_single_support(0, 1.7)  # not the step under way
+    assert machine.status.phase_duration == pytest.approx(0.4)
+    assert machine.retime_single_support(1, 1.75)
+    transitions = run(machine, 2.5, t0=1.55)
+    assert [s.phase_start for s in transitions[:3]] == pytest.approx([1.75, 1.85, 2.25],
+                                                                     abs=1e-9)
+    assert [s.phase for s in transitions[:3]] == [Phase.DOUBLE_SUPPORT, Phase.SINGLE_SUPPORT,
+                                                  Phase.DOUBLE_SUPPORT]
+    assert not machine.retime_single_support(machine.status.step_index, 0.5)  # before start
+
+
+@pytest.mark.parametrize('end', [math.nan, math.inf])
+def test_a_non_finite_adjusted_touchdown_is_a_command_error(end):
+    machine = WalkingStateMachine(PARAMS)
+    machine.request_start(0.0)
+    run(machine, 1.1)
+    with pytest.raises(CommandError):
+        machine.retime_single_support(0, end)
+    assert machine.status.phase_duration == pytest.approx(0.4)

@@ -11,7 +11,10 @@ messages of each other sensor topic (no callback per message), and polls again f
 not in yet (topics have no order between them).
 Publishes: joint_commands (sensor_msgs/JointState: the 12 leg setpoints, stamped with the sensor
 time they answer), controller_diagnostics (biped_mpc/ControllerDiagnostics), sole_poses
-(geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to).
+(geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to),
+balance_estimate (biped_msgs/BalanceEstimate: the DCM of the measured state, at the start of
+each cycle, before its command; the reference generator's step adjuster answers it;
+biped_mpc.balance.measured_dcm, with the odometry's pelvis only).
 
 Lockstep: a period is computed once its reference (stamped with the same sensor time) is in, or
 after reference_wait of wall time without it.
@@ -39,7 +42,8 @@ import dataclasses
 import math
 import time
 
-from biped_msgs.msg import ControllerDiagnostics, ReferenceTrajectory, WalkingState
+from biped_msgs.msg import (BalanceEstimate, ControllerDiagnostics, ReferenceTrajectory,
+                            WalkingState)
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PointStamped, PoseArray, WrenchStamped
 from nav_msgs.msg import Odometry
@@ -49,6 +53,7 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from sensor_msgs.msg import Imu, JointState
 
+from biped_mpc.balance.measured_dcm import MeasuredDcm
 from biped_mpc.controller_io import ControllerFeedback, STATUS_MPC_FALLBACK
 from biped_mpc.controller_params import (CONTROLLER_MPC_PARAMS, PELVIS_GROUND_TRUTH,
                                          WalkingControllerParams)
@@ -173,6 +178,9 @@ class MpcControllerNode(Node):
         self._diag_pub = self.create_publisher(ControllerDiagnostics, 'controller_diagnostics',
                                                10)
         self._soles_pub = self.create_publisher(PoseArray, 'sole_poses', 10)
+        self._balance_pub = self.create_publisher(BalanceEstimate, 'balance_estimate', 10)
+        self._balance = MeasuredDcm(self._robot) if geometry is not None else None
+        self._balance_time = None
         self.create_subscription(ReferenceTrajectory, 'reference_trajectory', self._on_reference,
                                  10)
         # One cycle per sensor time, once every input of that time is in: mixing two periods'
@@ -348,6 +356,8 @@ class MpcControllerNode(Node):
             return
         stale = self._intake.stale(self._sensor_topics, t,
                                    self.get_parameter('sensor_timeout').value)
+        if not stale:
+            self._publish_balance(t, stamp, feedback)
         if not stale and self._started:
             self._check_epoch(t, feedback)
         feet_now = None if self._last_output is None else \
@@ -392,6 +402,29 @@ class MpcControllerNode(Node):
         diagnostics = diagnostics_msg(stamp, status, message, self._params, output, latency)
         deadline_terms(diagnostics, self._deadlines)
         self._diag_pub.publish(diagnostics)
+
+    def _publish_balance(self, t: float, stamp, feedback: ControllerFeedback) -> None:
+        """The measured state's COM and DCM, for the step adjuster (needs the pelvis position:
+        with pelvis_source imu_kinematics there is none)."""
+        if self._balance is None or feedback.pelvis_position is None:
+            return
+        if self._balance_time is not None and t <= self._balance_time:
+            self._balance.reset()  # the clock went back: a reset simulation
+        self._balance_time = t
+        try:
+            com, dcm = self._balance.update(t, feedback.leg_joint_positions,
+                                            feedback.pelvis_position,
+                                            feedback.pelvis_orientation)
+        except BipedMpcError as error:
+            self.get_logger().error(f'no balance estimate: {error}', throttle_duration_sec=2.0)
+            return
+        msg = BalanceEstimate(omega=float(self._balance.omega))
+        msg.header.stamp = stamp
+        msg.header.frame_id = self.get_parameter('frames.world').value
+        msg.com.x, msg.com.y = float(com[0]), float(com[1])
+        msg.dcm.x, msg.dcm.y = float(dcm[0]), float(dcm[1])
+        msg.zmp.x, msg.zmp.y = float(feedback.zmp[0]), float(feedback.zmp[1])
+        self._balance_pub.publish(msg)
 
     def _hold_joints(self, stamp, why: str) -> None:
         """No cycle can run: the last setpoints again (the period is answered), or WAITING."""

@@ -28,11 +28,13 @@ FIRST_PAIR_COLUMN = sum(len(columns) for _, columns in REFERENCE_FEET)
 FIRST_LANDING_COLUMN = REFERENCE_COLUMNS.index('left_landing_min_x')  # landing bounds last
 
 
-def reference_trajectory_msg(window, plan_id: int, dt: float, stamp) -> ReferenceTrajectory:
+def reference_trajectory_msg(window, plan_id: int, dt: float, stamp,
+                             plan_revision: int = 0) -> ReferenceTrajectory:
     """A ReferenceWindow as the flat arrays of biped_msgs/ReferenceTrajectory."""
     msg = ReferenceTrajectory()
     msg.header.stamp = stamp
     msg.plan_id = int(plan_id)
+    msg.plan_revision = int(plan_revision)
     msg.dt = float(dt)
     n = len(window.t)
     table = np.empty((len(REFERENCE_COLUMNS), n))

@@ -10,13 +10,15 @@ Service: plan_walk (biped_msgs/PlanWalk), offered once the start pose is known (
 sole_poses).
 Subscribes: map (nav_msgs/OccupancyGrid, transient local), sole_poses (geometry_msgs/PoseArray
 from the controller: a plan starts between the feet; odom until then), walking_state
-(biped_msgs/WalkingState: teleop plans stay ahead of it).
+(biped_msgs/WalkingState: teleop plans stay ahead of it), step_adjustment
+(biped_msgs/StepAdjustment: the reference generator's step adjuster moved a landing; the plan,
+same plan_id, is republished from where the foot lands, a goal walk planned anew from there).
 Publishes (transient local): footstep_plan (biped_msgs/FootstepPlan, with status and error code),
 plan (nav_msgs/Path), footstep_markers (visualization_msgs/MarkerArray).
 """
 from typing import Optional, Tuple
 
-from biped_msgs.msg import FootstepPlan, WalkingState
+from biped_msgs.msg import FootstepPlan, StepAdjustment, WalkingState
 from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
@@ -36,17 +38,20 @@ from biped_planner.node_support.qos import LATCHED, LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.nodes.conversions import (body_between, checked_pose2d, failed_plan_msg,
                                              feet_from_sole_poses, footstep_markers,
-                                             footstep_plan_msg, goal_command_from_msg, path_msg,
+                                             footstep_plan_msg, footsteps_from_msgs,
+                                             goal_command_from_msg, path_msg,
                                              velocity_from_twist, walk_command_from_msg)
 from biped_planner.occupancy_grid import InflationParams
 from biped_planner.omnidirectional_stepper import command_from_twist, StepCommand, StepperParams
 from biped_planner.plan_session import LOOKAHEAD_RANGE, PlanMode, PlanSession
 from biped_planner.pose2d import Pose2D
 from biped_planner.pose_checks import check_pose, PoseBounds
+from biped_planner.reference_session import check_footsteps
 from biped_planner.step_timing import StepTiming
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import Phase, WALKING_PHASES
 
+MAX_ADJUSTED_STEP = 1.0  # m: farther consecutive footsteps in an adjustment are not a step's
 
 PLANNING_ERRORS = [
     (StartOutsideMapError, FootstepPlan.ERROR_START_OUTSIDE_MAP),
@@ -114,6 +119,7 @@ class FootstepPlannerNode(Node):
         self.create_subscription(PoseArray, 'sole_poses', self._on_soles, 10)
         self._soles_seen = False
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
+        self.create_subscription(StepAdjustment, 'step_adjustment', self._on_adjustment, 10)
         # plan_walk is offered once the robot's pose is known: a caller that finds the service
         # (the state machine waits for it) is never refused for a start not yet received
         self._service = None
@@ -189,6 +195,27 @@ class FootstepPlannerNode(Node):
                 self._publish(self._session.on_step(msg.step_index))
             except BipedPlannerError as error:
                 self._reject('walking_state', error)
+
+    def _on_adjustment(self, msg: StepAdjustment) -> None:
+        try:
+            if msg.header.frame_id != self._frame:
+                raise FrameError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
+            footsteps = footsteps_from_msgs(msg.footsteps)
+            check_footsteps(footsteps, self._bounds.workspace, MAX_ADJUSTED_STEP)
+            update = self._session.adopt_adjustment(msg.plan_id, msg.step_index, footsteps)
+        except (BipedPlannerError, ValueError) as error:
+            self._reject('step_adjustment', error)
+            return
+        if update is None:
+            self._reject('step_adjustment', f'plan {msg.plan_id} is not the current plan '
+                         f'({self._session.plan_id})')
+            return
+        self.get_logger().info(f'plan {update.plan_id}: step {msg.step_index} adjusted '
+                               f'(revision {msg.revision}), {len(update.footsteps) - 2} steps')
+        if update.path:
+            self._path_pub.publish(path_msg(update.path, self._frame,
+                                            self.get_clock().now().to_msg()))
+        self._publish(update)
 
     # --- the plan_walk service --------------------------------------------------------------
     def _on_plan_walk(self, request: PlanWalk.Request, response: PlanWalk.Response):

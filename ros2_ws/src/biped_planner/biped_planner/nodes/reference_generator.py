@@ -4,10 +4,18 @@ Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_st
 (biped_msgs/WalkingState: the walk's start time and phase, the reset epoch), sole_poses
 (geometry_msgs/PoseArray from the controller: where to stand before the first walk; odom until
 it arrives), joint_commands (sensor_msgs/JointState from the controller, on sim time: see below).
+balance_estimate (biped_msgs/BalanceEstimate from the controller, with step_adjustment.enabled).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds;
-diagnostics (diagnostic_msgs/DiagnosticArray: whether walking_state arrives) once a second and
-when that changes.
+step_adjustment (biped_msgs/StepAdjustment) when the online step adjuster moved the step under
+way; diagnostics (diagnostic_msgs/DiagnosticArray: whether walking_state arrives, adjustments
+made) once a second and when that changes.
+
+Step adjustment (biped_planner.step_adjuster, off by default as in the paper): each
+balance_estimate of a single support is answered by the adjuster's QP; when it moves the step,
+the walk's reference is replanned at once (the next reference_trajectory carries it, with a
+higher plan_revision) and step_adjustment tells the planner (which republishes the plan and
+plans on from it) and the state machine (which moves the touchdown).
 
 On sim time the controller waits for the reference of each period (lockstep). Once it has
 answered period t (its joint command stamped t), the simulator steps to t + 1 / rate, so the
@@ -24,7 +32,10 @@ current walk's reference then runs to its plan's end and stands.
 """
 import time
 
-from biped_msgs.msg import FootstepPlan, ReferenceTrajectory, WalkingState
+import math
+
+from biped_msgs.msg import (BalanceEstimate, FootstepPlan, ReferenceTrajectory, StepAdjustment,
+                            WalkingState)
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import Odometry
@@ -45,11 +56,14 @@ from biped_planner.node_support.reference_messages import reference_trajectory_m
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.node_support.walking_state_checks import walking_state_problem
 from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_poses,
-                                             footsteps_from_msgs)
+                                             footstep_msgs, footsteps_from_msgs)
 from biped_planner.pose_checks import PoseBounds
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_session import check_footsteps, ReferenceSession
+from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_planner.step_timing import StepTiming
+from biped_planner.walk_command import MAX_START_LEAD
 from biped_planner.walking_state_machine import WALKING_PHASES
 
 WATCH_PERIOD = 0.1  # s of wall time between checks that walking_state still comes
@@ -82,7 +96,15 @@ class ReferenceGeneratorNode(Node):
         self._horizon = max(2, int(get('horizon')))
         self._dt = float(get('dt'))
         self._frame = get('map_frame')
-        self._session = ReferenceSession(self._reference_params)
+        # Descriptions and ranges from the adjuster's parameter() fields; read at start.
+        self._adjuster_params = declare_dataclass_parameters(
+            self, OnlineStepAdjusterParams(enabled=False), {}, prefix='step_adjustment.')
+        reference = self._reference_params
+        self._step_limits = declare_dataclass_parameters(
+            self, StepAdjustmentParams(com_height=reference.com_height), {},
+            prefix='step_limits.',
+            fixed={'com_height': reference.com_height, 'gravity': reference.gravity})
+        self._session = self._new_session()
         self._reject = RejectionLog(self.get_logger().error)
         self._standing = None
         self._phase = None
@@ -90,6 +112,9 @@ class ReferenceGeneratorNode(Node):
         self._watch = InputWatch(('walking_state',), timeout=float(get('state_timeout')))
         self._stale = ()
         self._pub = self.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+        self._adjustment_pub = self.create_publisher(StepAdjustment, 'step_adjustment', 10)
+        if self._adjuster_params.enabled:
+            self.create_subscription(BalanceEstimate, 'balance_estimate', self._on_balance, 10)
         self._alive = LivelinessToken(self, 'reference_trajectory')  # the controller waits for it
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
@@ -115,6 +140,52 @@ class ReferenceGeneratorNode(Node):
     def _now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
 
+    def _new_session(self) -> ReferenceSession:
+        adjuster = OnlineStepAdjuster(self._adjuster_params, self._step_limits) \
+            if self._adjuster_params.enabled else None
+        return ReferenceSession(self._reference_params, adjuster)
+
+    def _on_balance(self, msg: BalanceEstimate) -> None:
+        """The controller's balance estimate: the step adjuster answers it."""
+        stamp = msg.header.stamp
+        t = stamp.sec + stamp.nanosec * 1e-9
+        try:
+            if msg.header.frame_id != self._frame:
+                raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
+            if t > self._now() + MAX_STAMP_LEAD:
+                raise ValueError(f'stamp {t:.3f} s is ahead of the clock')
+            com = (msg.com.x, msg.com.y)
+            dcm = (msg.dcm.x, msg.dcm.y)
+            workspace = self._bounds.workspace
+            if not all(math.isfinite(v) and abs(v) <= workspace for v in com + dcm):
+                raise ValueError(f'com {com} and dcm {dcm} must be finite and within the '
+                                 f'workspace ({workspace} m)')
+            # The measured ZMP is not used: early in a single support it still lies between the
+            # feet (the swing foot unloading), and held there it predicts a DCM that falls
+            # inwards, which moved every first step inwards to the crossing limit.
+            adjustment = self._session.adjust(t, com, dcm)
+        except (BipedPlannerError, ValueError) as error:
+            self._reject('balance_estimate', error)
+            return
+        if adjustment is not None:
+            self._publish_adjustment(adjustment)
+
+    def _publish_adjustment(self, adjustment) -> None:
+        msg = StepAdjustment(plan_id=adjustment.plan_id, revision=adjustment.revision,
+                             step_index=adjustment.step_index,
+                             touchdown_time=adjustment.touchdown,
+                             planned_touchdown_time=adjustment.planned_touchdown,
+                             footsteps=footstep_msgs(adjustment.footsteps))
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.header.frame_id = self._frame
+        self._adjustment_pub.publish(msg)
+        landing = adjustment.footsteps[adjustment.step_index + 2]
+        self.get_logger().info(
+            f'step {adjustment.step_index} adjusted (plan {adjustment.plan_id}, revision '
+            f'{adjustment.revision}): lands at ({landing.x:.3f}, {landing.y:.3f}) at '
+            f't={adjustment.touchdown:.3f} s (planned {adjustment.planned_touchdown:.3f} s), DCM '
+            f'{adjustment.dcm_error[0]:+.3f}, {adjustment.dcm_error[1]:+.3f} m off the plan\'s')
+
     def _on_plan(self, msg: FootstepPlan) -> None:
         if msg.status == FootstepPlan.STATUS_FAILED:
             return
@@ -135,7 +206,8 @@ class ReferenceGeneratorNode(Node):
         self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): {done}')
 
     def _on_state(self, msg: WalkingState) -> None:
-        why = walking_state_problem(msg, self._now(), MAX_STAMP_LEAD)
+        # a scheduled walk (WalkCommand.start_time) starts up to MAX_START_LEAD ahead
+        why = walking_state_problem(msg, self._now(), MAX_START_LEAD + MAX_STAMP_LEAD)
         if why is not None:
             self._reject('walking_state', why)
             return
@@ -160,7 +232,7 @@ class ReferenceGeneratorNode(Node):
     def _restart(self, epoch: int) -> None:
         """The robot was reset: no walk, no plan, stand where the controller puts the feet."""
         self._epoch = epoch
-        self._session = ReferenceSession(self._reference_params)
+        self._session = self._new_session()
         self._standing = None
         self._soles_seen = False
         self._subscribe_soles()
@@ -218,7 +290,8 @@ class ReferenceGeneratorNode(Node):
             return
         if window is not None:
             msg = reference_trajectory_msg(window, self._session.plan_id, self._dt,
-                                           Time(nanoseconds=t_ns).to_msg())
+                                           Time(nanoseconds=t_ns).to_msg(),
+                                           self._session.plan_revision)
             msg.header.frame_id = self._frame
             self._pub.publish(msg)
             self._sent_ns = t_ns
@@ -280,7 +353,9 @@ class ReferenceGeneratorNode(Node):
         status = DiagnosticStatus(level=level, name='reference_generator: walking_state',
                                   message=message, hardware_id=self.get_name(),
                                   values=[KeyValue(key='stale_inputs',
-                                                   value=','.join(self._stale))])
+                                                   value=','.join(self._stale)),
+                                          KeyValue(key='step_adjustments',
+                                                   value=str(self._session.adjustments))])
         msg = DiagnosticArray(status=[status])
         msg.header.stamp = self.get_clock().now().to_msg()
         self._diagnostics_pub.publish(msg)

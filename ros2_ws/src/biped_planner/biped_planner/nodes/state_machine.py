@@ -12,6 +12,8 @@ in place. cmd_vel follows the teleop convention (biped_planner.teleop_gate): a r
 keeps the walk going, a walk driven by cmd_vel stops (finishing its step) when cmd_vel has been
 silent for cmd_vel_timeout, and a cmd_vel sent while it stops starts a new walk once idle.
 Also subscribes: footstep_plan (transient local), odom (nav_msgs/Odometry: fall detection),
+step_adjustment (biped_msgs/StepAdjustment: the reference generator's step adjuster moved
+the touchdown of the step under way, which the single support follows),
 reference_trajectory and controller_diagnostics (only their arrival is kept): an input that
 stops is named in walking_state.stale_inputs (biped_planner.input_watch); losing the references
 or the controller ends a walk.
@@ -24,7 +26,7 @@ from functools import partial
 import time
 
 from biped_msgs.msg import CommandStatus, ControllerDiagnostics, FootstepPlan, \
-    ReferenceTrajectory, WalkCommand as WalkCommandMsg, WalkingState
+    ReferenceTrajectory, StepAdjustment, WalkCommand as WalkCommandMsg, WalkingState
 from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
@@ -56,6 +58,7 @@ from biped_planner.walking_state_machine import (Phase, StateMachineParams, Supp
                                                  WALKING_PHASES, WalkingStateMachine)
 
 PLAN = 'footstep_plan'
+MAX_ADJUSTMENT_LEAD = 5.0  # s: an adjusted touchdown farther from the clock is not a step's
 STREAMS = ('odom', 'reference_trajectory', 'controller_diagnostics')
 WALK_PRODUCERS = ('reference_trajectory', 'controller_diagnostics')  # their loss ends a walk
 KNOWN_COMMANDS = {int(kind) for kind in CommandKind}
@@ -100,6 +103,7 @@ class StateMachineNode(Node):
         self.create_subscription(Twist, 'cmd_vel', self._on_cmd_vel, 10)
         self.create_subscription(FootstepPlan, PLAN, self._on_plan, LATCHED_IN)
         self.create_subscription(Odometry, 'odom', self._on_odometry, 10)
+        self.create_subscription(StepAdjustment, 'step_adjustment', self._on_adjustment, 10)
         for msg_type, name in ((ReferenceTrajectory, 'reference_trajectory'),
                                (ControllerDiagnostics, 'controller_diagnostics')):
             self.create_subscription(msg_type, name, partial(self._on_stream, name), 10,
@@ -367,6 +371,32 @@ class StateMachineNode(Node):
             if request.answer_owed:
                 self._answer(request.command, CommandStatus.OK)
         self._publish_transitions(transitions, now)
+
+    def _on_adjustment(self, msg: StepAdjustment) -> None:
+        """The touchdown of the step under way moved (the footsteps come with the plan)."""
+        now = self._now()
+        if msg.plan_id != self._plan_id or not self._walking():
+            self._reject('step_adjustment', f'plan {msg.plan_id} is not the walk\'s '
+                         f'({self._plan_id}, {self.phase.name})')
+            return
+        if abs(msg.touchdown_time - now) > MAX_ADJUSTMENT_LEAD:
+            self._reject('step_adjustment', f'touchdown_time {msg.touchdown_time!r} s is not '
+                         f'within {MAX_ADJUSTMENT_LEAD} s of the clock ({now:.3f} s)')
+            return
+        try:
+            moved = self._machine.retime_single_support(msg.step_index, msg.touchdown_time)
+        except CommandError as error:
+            self._reject('step_adjustment', error)
+            return
+        if moved:
+            self.get_logger().info(f'step {msg.step_index}: touchdown moved to '
+                                   f't={msg.touchdown_time:.3f} s (revision {msg.revision})')
+            self._publish(self._machine.status, now)
+        else:
+            status = self._machine.status
+            self._reject('step_adjustment', f'step {msg.step_index} is not the single support '
+                         f'under way ({status.phase.name}, step {status.step_index})')
+        self._publish_transitions(self._machine.update(now), now)
 
     # --- sensors and other inputs -----------------------------------------------------------
     def _on_stream(self, name: str, _raw) -> None:
