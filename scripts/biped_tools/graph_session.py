@@ -39,9 +39,10 @@ class RunSeries:
     zmp: List[tuple] = field(default_factory=list)           # t, x, y (measured, F/T)
     bounds: List[tuple] = field(default_factory=list)        # t, x_min, y_min, x_max, y_max
     zmp_reference: List[tuple] = field(default_factory=list)  # t, x, y
-    states: List[tuple] = field(default_factory=list)        # t, phase, step, fallen, reason
+    states: List[tuple] = field(default_factory=list)  # t, phase, step, fallen, reason, support
     solve_times: List[float] = field(default_factory=list)   # s
     plans: list = field(default_factory=list)                 # FootstepPlan messages
+    adjustments: list = field(default_factory=list)           # StepAdjustment messages
     path: list = field(default_factory=list)                  # (x, y) of the last nav Path
 
 
@@ -89,6 +90,7 @@ class GraphSession:
         self.recorder = None
         self.summary = None
         self.walk_start_time = 0.0  # of the last walking_state: the gait is timed from it
+        self.walking_state = None  # the last walking_state message
         self.node = None
         self.executor = None
         self._context = None
@@ -146,7 +148,8 @@ class GraphSession:
             self.graph.stop()
 
     def _make_endpoints(self) -> None:
-        from biped_msgs.msg import ControllerDiagnostics, FootstepPlan, ReferenceTrajectory
+        from biped_msgs.msg import (ControllerDiagnostics, FootstepPlan, ReferenceTrajectory,
+                                    StepAdjustment)
         from biped_msgs.srv import Push, SetTerrain
         from geometry_msgs.msg import PointStamped, PoseStamped, Twist
         from nav_msgs.msg import OccupancyGrid, Odometry, Path as PathMsg
@@ -194,13 +197,15 @@ class GraphSession:
 
         def on_walking_state(m):
             s.states.append((stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen,
-                             m.reason))
+                             m.reason, m.support_foot))
             self.walk_start_time = m.walk_start_time
+            self.walking_state = m
 
         node.create_subscription(WalkingState, 'walking_state', on_walking_state, 50)
         node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
                                  lambda m: s.solve_times.append(m.solve_time), 50)
         node.create_subscription(FootstepPlan, 'footstep_plan', s.plans.append, latched)
+        node.create_subscription(StepAdjustment, 'step_adjustment', s.adjustments.append, 50)
         node.create_subscription(PathMsg, 'plan', lambda m: setattr(s, 'path', [
             (p.pose.position.x, p.pose.position.y) for p in m.poses]), latched)
 

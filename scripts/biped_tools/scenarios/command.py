@@ -7,6 +7,8 @@ result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
   scenarios.py disk [--step-length 0.15 | --sweep] [--laps 1]
   scenarios.py omni [--scale 1.0 | --sweep] [--duration 36]
   scenarios.py push [--forces 80 100 ...]            (default: the paper's schedule to a fall)
+  scenarios.py push-directions [--directions 0 45 ...] [--phases early_single ...]
+               [--gaits in_place forward] [--adjustment off on] [--forces 60 80 ...]
   scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
   scenarios.py goal
   scenarios.py summary [--seeds 1 2 3]               (all of them, both models, the table)
@@ -19,7 +21,8 @@ from pathlib import Path
 import time
 
 from biped_tools.paths import OUTPUT
-from biped_tools.scenarios import disk, omni, push, start_goal, summary, terrain
+from biped_tools.scenarios import (disk, omni, push, push_directions, start_goal, summary,
+                                   terrain)
 from biped_tools.scenarios.trial import TrialFactory
 
 MODELS = ('lipm', 'three_mass')
@@ -46,6 +49,19 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser('push', parents=[common], help='pushes while walking in place')
     p.add_argument('--forces', type=float, nargs='+', default=None,
                    help='N, one push each 8 s (default 80, 100, 120, 130, ... up to a fall)')
+    p = sub.add_parser('push-directions', parents=[common],
+                       help='pushes from 8 directions at 4 phases, step adjustment off / on')
+    p.add_argument('--directions', type=float, nargs='+',
+                   default=list(push_directions.DIRECTIONS_DEG), help='deg from +x towards +y')
+    p.add_argument('--phases', nargs='+', choices=tuple(push_directions.PHASES),
+                   default=list(push_directions.PHASES))
+    p.add_argument('--gaits', nargs='+', choices=tuple(push_directions.GAITS),
+                   default=list(push_directions.GAITS))
+    p.add_argument('--adjustment', nargs='+', choices=('off', 'on'), default=['off', 'on'])
+    p.add_argument('--forces', type=float, nargs='+', default=None,
+                   help='N, one push per interval until a fall (default 80, 100, ... 320)')
+    p.add_argument('--interval', type=float, default=push_directions.INTERVAL,
+                   help='s of sim time between pushes')
     p = sub.add_parser('terrain', parents=[common], help='cross uneven tiles')
     p.add_argument('--tile-areas', type=float, nargs='+', default=list(terrain.TILE_AREAS_CM2))
     p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
@@ -91,6 +107,17 @@ def run_scenario(args) -> int:
                                     args.duration))
         elif args.scenario == 'push':
             results.append(push.run(trial('push', 'schedule'), args.forces or push.forces()))
+        elif args.scenario == 'push-directions':
+            cells = [push_directions.run(
+                trial('push_directions', f'{gait}_{phase}_{direction:g}deg_{setting}'),
+                direction, phase, gait, args.forces or push_directions.forces(),
+                setting == 'on', args.interval)
+                for gait in args.gaits for phase in args.phases
+                for direction in args.directions for setting in args.adjustment]
+            results.extend(cells)
+            for gait in args.gaits:
+                print(f'\n{model}, {gait}:\n' + push_directions.table(
+                    [c for c in cells if c['gait'] == gait]), flush=True)
         elif args.scenario == 'terrain':
             results.extend(terrain.run(trial('terrain', f'{area:g}cm2_seed{seed}'), area, seed,
                                        side=args.side)

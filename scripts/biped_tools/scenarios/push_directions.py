@@ -1,0 +1,192 @@
+"""Pushes from every direction at every phase of the gait, with and without step adjustment.
+
+What users meet, beyond the paper's one sagittal push: a 100 ms push on the pelvis from one of 8
+directions (every 45 deg, from +x towards +y), at one of 4 phases of a step, walking in place or
+forward at 0.1 m steps (the paper's 0.3 + 0.1 s step). The phases, as in the library trials
+(biped_sim.push_trial): early_single (a quarter into a single support on the right foot),
+late_single (its last 0.1 s, ending at touchdown), double (the double support), and
+early_single_left (a quarter into a single support on the left foot).
+
+Both settings run the same controller, the stabilizer with the swing foot on the reference
+(CONTROLLER): the step adjuster moves the reference's landing, which the paper's swing target
+(2 leg mass - hip) follows too late. One trial is one graph: the forces of a schedule, one
+push every `interval` s of sim time, until a fall. Each push is scheduled from the
+walking_state of a single support shortly before it, so it meets its phase even after the step
+adjuster moved earlier touchdowns. Reported: the largest push walked through and the first
+that fell.
+"""
+import math
+import time
+from typing import Dict, List, Optional, Sequence
+
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, Trial,
+                                         write_result)
+
+TIMING = (0.3, 0.1)       # s: the paper's push scenario
+DURATION = 0.1            # s
+FIRST_PUSH = 3.0          # s after the walk start: past the initial shift, into steady stepping
+INTERVAL = 4.0            # s of sim time between pushes (10 steps)
+LEAD = 0.3                # s: a push is scheduled at least this far ahead of the clock
+START_LEAD = 2.0          # s of sim time between the start command and the walk's start
+DIRECTIONS_DEG = tuple(range(0, 360, 45))
+GAITS = {'in_place': 0.0, 'forward': 0.1}   # m per step
+# phase: (support foot of its single support or None for the double support, s into the phase)
+PHASES = {
+    'early_single': ('right', 0.25 * TIMING[0]),
+    'late_single': ('right', TIMING[0] - DURATION),
+    'double': (None, 0.0),
+    'early_single_left': ('left', 0.25 * TIMING[0]),
+}
+SUPPORT_NAMES = {0: 'left', 1: 'right'}  # WalkingState.SUPPORT_LEFT / SUPPORT_RIGHT
+CONTROLLER = ['balance:=stabilizer', 'swing_target:=planned']
+
+
+def forces(first: float = 80.0, maximum: float = 320.0, step: float = 20.0) -> List[float]:
+    """first, first + step, ... up to maximum (N)."""
+    count = int(math.floor((maximum - first) / step + 1e-9)) + 1
+    return [first + k * step for k in range(max(count, 0))]
+
+
+def next_push_time(single_start: float, single_duration: float, support: str, phase: str,
+                   earliest: float, timing: Sequence[float] = TIMING) -> float:
+    """The start time of the first push of `phase` at or after `earliest`.
+
+    From a single support under way (its start, its duration as the state machine has it, its
+    support foot), the later phases follow at the nominal timing, the feet alternating.
+
+    :param single_start: start of the current single support (s)
+    :param single_duration: its duration (s)
+    :param support: its support foot, 'left' or 'right'
+    :param phase: a key of PHASES
+    :param earliest: the push starts at or after this time (s)
+    :return: the push's start time (s)
+    :raises ValueError: for an unknown phase or support
+    """
+    if phase not in PHASES or support not in ('left', 'right'):
+        raise ValueError(f'phase must be one of {tuple(PHASES)} and support left or right, '
+                         f'got {phase!r}, {support!r}')
+    wanted, delay = PHASES[phase]
+    single, double = timing
+    t, duration = single_start, single_duration
+    for _ in range(100000):
+        if wanted == support and t + delay >= earliest:
+            return t + delay
+        double_start = t + duration
+        if wanted is None and double_start >= earliest:
+            return double_start
+        t, duration = double_start + double, single
+        support = 'left' if support == 'right' else 'right'
+    raise ValueError(f'no {phase} phase found after {earliest} s')
+
+
+def phase_at(states, t: float) -> str:
+    """The walking phase and support foot at t, from walking_state records (t, phase, step,
+    fallen, reason, support), e.g. 'single right, step 7'."""
+    from biped_msgs.msg import WalkingState
+    before = [s for s in states if s[0] <= t + 1e-6]
+    if not before:
+        return 'before the walk'
+    _, phase, step, _, _, support = before[-1]
+    if phase == WalkingState.SINGLE_SUPPORT:
+        return f'single {SUPPORT_NAMES.get(support, support)}, step {step}'
+    if phase == WalkingState.DOUBLE_SUPPORT:
+        return f'double, step {step}'
+    return f'phase {phase}'
+
+
+def gait_command(session, gait: str) -> None:
+    """Start walking in place (START) or forward at GAITS[gait] m per step (OMNI), at a stated
+    sim time (START_LEAD ahead): the trial does not depend on when the command got through."""
+    from biped_msgs.msg import WalkCommand
+    length = GAITS[gait]
+    start = round(session.sim_time() + START_LEAD, 2)
+    if length == 0.0:
+        session.send_command(command=WalkCommand.START, start_time=start)
+    else:
+        session.send_command(command=WalkCommand.OMNI, step_length=length,
+                             step_time=sum(TIMING), start_time=start)
+
+
+def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: List[float],
+        adjustment: bool, interval: float = INTERVAL) -> dict:
+    """Walk, push with the forces of schedule from direction_deg at phase, until a fall."""
+    from biped_msgs.msg import WalkingState
+    wall0 = time.monotonic()
+    extra = {'reference_generator': [f'step_adjustment.enabled:={str(adjustment).lower()}'],
+             'mpc_controller': list(CONTROLLER)}
+    angle = math.radians(direction_deg)
+    pushes: List[Dict] = []
+    with graph_for(trial, timing=TIMING, extra=extra) as session:
+        progress = Progress(trial)
+        sim0 = session.sim_time()
+        gait_command(session, gait)
+        session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
+        earliest = session.walk_start_time + FIRST_PUSH
+        for force in schedule:
+            # a single support shortly before the push: the phases after it are nominal
+            def single_state_near() -> Optional[object]:
+                state = session.walking_state
+                if state is None or state.phase != WalkingState.SINGLE_SUPPORT:
+                    return None
+                t = state.header.stamp.sec + state.header.stamp.nanosec * 1e-9
+                return state if t >= earliest - 1.0 - LEAD else None
+            if not drive(session, lambda t: single_state_near() is not None,
+                         earliest - session.sim_time() + 2.0, progress):
+                break
+            state = single_state_near()
+            now = state.header.stamp.sec + state.header.stamp.nanosec * 1e-9
+            at = next_push_time(now - state.time_in_phase, state.phase_duration,
+                                SUPPORT_NAMES[state.support_foot], phase,
+                                max(earliest, session.sim_time() + LEAD))
+            if not session.push(force * math.cos(angle), force * math.sin(angle),
+                                duration=DURATION, at=at):
+                raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
+            pushes.append({'force_n': force, 'at_s': round(at - sim0, 3)})
+            end = at + DURATION + interval - 1.0
+            drive(session, lambda t: t >= end, end - session.sim_time() + 1.0, progress)
+            if session.fallen():
+                break
+            earliest = at + interval
+        result = base_result(trial, session, wall0, sim0)
+        adjustments = len(session.series.adjustments)
+        for push in pushes:
+            push['met'] = phase_at(session.series.states, push['at_s'] + sim0)
+    t_fall = result['fall_time_s']
+    walked = [p['force_n'] for p in pushes if t_fall is None or p['at_s'] + interval <= t_fall]
+    fell = [p['force_n'] for p in pushes if p['force_n'] not in walked]
+    result.update({
+        'direction_deg': direction_deg, 'phase': phase, 'gait': gait, 'adjustment': adjustment,
+        'pushes': pushes, 'step_adjustments': adjustments,
+        'largest_withstood_n': max(walked) if walked else 0.0,
+        'first_fall_force_n': fell[0] if fell else None,
+    })
+    result['success'] = bool(walked)
+    return write_result(trial, result)
+
+
+def table(results: List[dict]) -> str:
+    """Markdown: largest push withstood per direction (rows) and phase (columns), each cell
+    'off / on' when both adjustment settings were run, and the minimum."""
+    phases = [p for p in PHASES if any(r['phase'] == p for r in results)]
+    directions = sorted({r['direction_deg'] for r in results})
+    settings = sorted({r['adjustment'] for r in results})
+
+    def cell(direction, phase):
+        values = []
+        for setting in settings:
+            match = [r['largest_withstood_n'] for r in results if r['direction_deg'] ==
+                     direction and r['phase'] == phase and r['adjustment'] == setting]
+            values.append(f'{match[0]:.0f}' if match else '-')
+        return ' / '.join(values)
+    heading = ' / '.join('on' if s else 'off' for s in settings)
+    lines = [f'| direction ({heading}, N) | ' + ' | '.join(phases) + ' |',
+             '|---' * (len(phases) + 1) + '|']
+    lines += [f'| {d:.0f} deg | ' + ' | '.join(cell(d, p) for p in phases) + ' |'
+              for d in directions]
+    minima = []
+    for setting in settings:
+        values = [r['largest_withstood_n'] for r in results if r['adjustment'] == setting]
+        minima.append(f'{min(values):.0f}' if values else '-')
+    lines.append(f'| minimum | {" / ".join(minima)} N over directions and phases |'
+                 + ' |' * (len(phases) - 1))
+    return '\n'.join(lines)
