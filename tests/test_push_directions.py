@@ -1,0 +1,50 @@
+"""The push-directions scenario's schedule: which time a push of each phase starts at."""
+import pytest
+
+from biped_tools.scenarios.push_directions import (DURATION, forces, next_push_time, PHASES,
+                                                   table, TIMING)
+
+SINGLE, DOUBLE = TIMING
+STEP = SINGLE + DOUBLE
+
+
+@pytest.mark.parametrize('phase, support, expected', [
+    # a single support on the right foot from t = 10 s, the state machine's 0.3 s
+    ('early_single', 'right', 10.0 + 0.25 * SINGLE + 2 * STEP),  # the next right one in time
+    ('late_single', 'right', 10.0 + SINGLE - DURATION),  # still ahead in this one
+    ('double', 'right', 10.0 + SINGLE),
+    ('early_single_left', 'right', 10.0 + STEP + 0.25 * SINGLE),
+    # from a single support on the left foot, the right one comes a step later
+    ('early_single', 'left', 10.0 + STEP + 0.25 * SINGLE),
+    ('early_single_left', 'left', 10.0 + 2 * STEP + 0.25 * SINGLE),
+])
+def test_the_push_meets_its_phase(phase, support, expected):
+    assert next_push_time(10.0, SINGLE, support, phase, earliest=10.1) == pytest.approx(expected)
+
+
+def test_a_push_the_current_phase_still_allows_is_taken_there():
+    assert next_push_time(10.0, SINGLE, 'right', 'early_single', earliest=10.0) == \
+        pytest.approx(10.0 + 0.25 * SINGLE)
+
+
+def test_a_stretched_single_support_moves_the_phases_after_it():
+    """The step adjuster gave the current step 0.36 s: the state machine's duration counts."""
+    assert next_push_time(10.0, 0.36, 'right', 'double', earliest=10.1) == pytest.approx(10.36)
+    assert next_push_time(10.0, 0.36, 'right', 'early_single_left', earliest=10.1) == \
+        pytest.approx(10.36 + DOUBLE + 0.25 * SINGLE)
+
+
+@pytest.mark.parametrize('phase, support', [('sideways', 'right'), ('double', 'both')])
+def test_unknown_phases_and_supports_are_refused(phase, support):
+    with pytest.raises(ValueError):
+        next_push_time(10.0, SINGLE, support, phase, earliest=10.1)
+
+
+def test_schedule_and_table():
+    assert forces(80.0, 140.0, 20.0) == [80.0, 100.0, 120.0, 140.0]
+    results = [{'direction_deg': d, 'phase': p, 'adjustment': a,
+                'largest_withstood_n': 100.0 + d + (50.0 if a else 0.0)}
+               for d in (0, 90) for p in PHASES for a in (False, True)]
+    text = table(results)
+    assert '| 90 deg | 190 / 240 |' in text
+    assert '| minimum | 100 / 150 N' in text
