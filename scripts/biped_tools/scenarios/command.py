@@ -11,7 +11,7 @@ result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
                [--gaits in_place forward] [--adjustment off on] [--forces 60 80 ...]
   scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
   scenarios.py goal
-  scenarios.py summary [--seeds 1 2 3]               (all of them, both models, the table)
+  scenarios.py summary [--seeds 1 2 3] [--jobs 2]    (all of them, both models, the table)
   scenarios.py video push --model three_mass         (an animated GIF from the sim camera)
 Common: --model three_mass|lipm|both (default both), --out DIR, --domain-id N, --no-bag.
 """
@@ -69,6 +69,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.add_parser('goal', parents=[common], help='START -> GOAL around obstacles')
     p = sub.add_parser('summary', parents=[common], help='every scenario, both models, table')
     p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
+    p.add_argument('--jobs', type=int, default=1,
+                   help='independent parts run side by side, each graph on its own domains')
     p = sub.add_parser('video', parents=[common], help='a GIF of one scenario from the camera')
     p.add_argument('which', choices=('disk', 'omni', 'push', 'terrain'))
     p.add_argument('--fps', type=float, default=12.5)
@@ -131,14 +133,15 @@ def run_scenario(args) -> int:
 def run_summary(args) -> int:
     wall0 = time.monotonic()
     args.out.mkdir(parents=True, exist_ok=True)
-    per_model = {model: summary.run_model(args.out, model, args.domain_id, args.seeds,
-                                          not args.no_bag, log) for model in MODELS}
+    per_model = summary.run_models(args.out, MODELS, args.domain_id, args.seeds,
+                                   not args.no_bag, log, max(1, args.jobs))
     table = summary.table(per_model['lipm'], per_model['three_mass'])
     table['wall_s'] = round(time.monotonic() - wall0, 1)
+    table['jobs'] = max(1, args.jobs)
     table['per_model'] = per_model
     (args.out / 'summary.json').write_text(json.dumps(table, indent=2))
-    text = summary.markdown(table) + f'\nMade by `scripts/scenarios.py summary` in ' \
-        f'{table["wall_s"] / 60:.0f} min.\n'
+    text = summary.markdown(table) + f'\nMade by `scripts/scenarios.py summary --jobs ' \
+        f'{table["jobs"]}` in {table["wall_s"] / 60:.0f} min.\n'
     (args.out / 'summary.md').write_text(text)
     print(text)
     return 0

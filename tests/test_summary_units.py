@@ -1,0 +1,37 @@
+"""The summary's independent units: the same domains for any number of jobs, results assembled
+per model as the sequential run gives them."""
+import pytest
+
+from biped_tools.scenarios import summary
+from biped_tools.scenarios.terrain import TILE_AREAS_CM2
+
+
+def test_every_unit_has_its_own_block_of_domains():
+    units = summary.units_of(('lipm', 'three_mass'), 50)
+    assert len(units) == 2 * (4 + len(TILE_AREAS_CM2))
+    bases = [u.domain_base for u in units]
+    assert bases == sorted(bases) and len(set(bases)) == len(bases)
+    assert all(b - a == summary.UNIT_DOMAINS for a, b in zip(bases, bases[1:]))
+    assert bases[-1] + summary.UNIT_DOMAINS - 1 <= summary.MAX_DOMAIN_ID
+
+
+def test_domains_past_the_dds_limit_are_refused():
+    with pytest.raises(ValueError, match='start at'):
+        summary.units_of(('lipm', 'three_mass'), 120)
+
+
+def test_the_units_results_make_each_models_results(tmp_path, monkeypatch):
+    def fake(unit, out, seeds, record, log):
+        if unit.scenario == 'terrain':
+            return {'runs': [{'tile_area_cm2': unit.tile_area, 'seed': s,
+                              'success': unit.tile_area == 100.0,
+                              'terrain_fraction_crossed': 0.5} for s in seeds]}
+        return {'scenario': unit.scenario, 'model': unit.model, 'domain': unit.domain_base}
+    monkeypatch.setattr(summary, 'run_unit', fake)
+    per_model = summary.run_models(tmp_path, ('lipm', 'three_mass'), 50, [1, 2], jobs=1)
+    assert per_model['three_mass']['push'] == {'scenario': 'push', 'model': 'three_mass',
+                                               'domain': 50 + 10 * (7 + 2)}
+    terrain = per_model['lipm']['terrain']
+    assert len(terrain['runs']) == 2 * len(TILE_AREAS_CM2)
+    assert terrain['success_fraction'] == pytest.approx(1 / len(TILE_AREAS_CM2))
+    assert (tmp_path / 'lipm_results.json').exists()
