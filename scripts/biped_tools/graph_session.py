@@ -51,6 +51,7 @@ def stamp_seconds(stamp) -> float:
 
 
 VELOCITY_PERIOD = 0.1  # s of sim time between repeated cmd_vel messages (10 Hz teleop)
+DISCOVERY_WAIT = 0.5  # s of wall time to see another graph's nodes on the domain before starting
 
 
 def close_client(executor, node, context) -> None:
@@ -120,19 +121,32 @@ class GraphSession:
     def _start(self, timeout: float) -> None:
         import rclpy
         from biped_planner.node_support.node_runner import make_executor
-        self.graph.start()
-        self.graph.wait_until_up(timeout)
         self._context = rclpy.Context()
         rclpy.init(context=self._context, domain_id=self.domain_id)
         self.node = rclpy.create_node('graph_session', context=self._context, parameter_overrides=[
             rclpy.parameter.Parameter('use_sim_time', value=True)])
         self.executor = make_executor(context=self._context)
         self.executor.add_node(self.node)
+        self._check_domain_free()
+        self.graph.start()
+        self.graph.wait_until_up(timeout)
         self._make_endpoints()
         if self.bag_dir is not None:
             from biped_tools.recording import BagRecorder
             self.recorder = BagRecorder(self.node, self.bag_dir, topics=RECORDED_TOPICS,
                                         log=lambda text: None)
+
+    def _check_domain_free(self) -> None:
+        """Refuse a domain where nodes of another graph run (a run killed without its cleanup
+        leaves its nodes walking, and their messages would mix into this run's)."""
+        deadline = time.monotonic() + DISCOVERY_WAIT
+        ours = set(self.graph.options.nodes)
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=0.05)
+            found = ours & set(self.node.get_node_names())
+            if found:
+                raise RuntimeError(f'ROS domain {self.domain_id} already runs {sorted(found)}: '
+                                   'another graph is there (stop it, or use another domain)')
 
     def stop(self) -> None:
         if self._context is None:

@@ -12,12 +12,14 @@ result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
   scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
   scenarios.py goal
   scenarios.py summary [--seeds 1 2 3] [--jobs 2]    (all of them, both models, the table)
-  scenarios.py video push --model three_mass         (an animated GIF from the sim camera)
+  scenarios.py video push --model three_mass         (an animated GIF from the sim camera;
+                                                      push-adjusted: with step adjustment)
 Common: --model three_mass|lipm|both (default both), --out DIR, --domain-id N, --no-bag.
 """
 import argparse
 import json
 from pathlib import Path
+import signal
 import time
 
 from biped_tools.paths import OUTPUT
@@ -72,7 +74,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument('--jobs', type=int, default=1,
                    help='independent parts run side by side, each graph on its own domains')
     p = sub.add_parser('video', parents=[common], help='a GIF of one scenario from the camera')
-    p.add_argument('which', choices=('disk', 'omni', 'push', 'terrain'))
+    p.add_argument('which', choices=('disk', 'omni', 'push', 'push-adjusted', 'terrain'))
     p.add_argument('--fps', type=float, default=12.5)
     return parser
 
@@ -147,7 +149,16 @@ def run_summary(args) -> int:
     return 0
 
 
+def interrupt_on_sigterm() -> None:
+    """SIGTERM as Ctrl-C: the running trial's graph is stopped on the way out (its nodes run in
+    sessions of their own and would otherwise walk on, on a domain the next run uses)."""
+    def interrupt(*_):
+        raise KeyboardInterrupt('SIGTERM')
+    signal.signal(signal.SIGTERM, interrupt)
+
+
 def main(argv=None) -> int:
+    interrupt_on_sigterm()
     args = build_parser().parse_args(argv)
     if args.scenario == 'summary':
         return run_summary(args)
