@@ -19,6 +19,8 @@ import math
 import time
 from typing import Dict, List, Optional, Sequence
 
+import numpy as np
+
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, Trial,
                                          write_result)
 
@@ -79,6 +81,39 @@ def next_push_time(single_start: float, single_duration: float, support: str, ph
     raise ValueError(f'no {phase} phase found after {earliest} s')
 
 
+def adjustment_records(series, sim0: float) -> dict:
+    """What the step adjuster did, from step_adjustment and footstep_plan records: each
+    adjustment's time (from sim0), step, landing and the landing the plan had before it; and
+    whether the planner's last plan of the walk holds the last adjusted landing (the planner
+    republished it)."""
+    def seconds(stamp):
+        return stamp.sec + stamp.nanosec * 1e-9
+    steps = []
+    for msg in series.adjustments:
+        index = msg.step_index + 2
+        before = [p for p in series.plans if p.plan_id == msg.plan_id and
+                  seconds(p.header.stamp) <= seconds(msg.header.stamp) and
+                  len(p.footsteps) > index]
+        landing = msg.footsteps[index]
+        planned = before[-1].footsteps[index] if before else landing
+        steps.append({'at_s': round(seconds(msg.header.stamp) - sim0, 3),
+                      'step': msg.step_index, 'revision': msg.revision,
+                      'landing': (round(landing.x, 4), round(landing.y, 4)),
+                      'planned_landing': (round(planned.x, 4), round(planned.y, 4)),
+                      'touchdown_s': round(msg.touchdown_time - sim0, 3),
+                      'planned_touchdown_s': round(msg.planned_touchdown_time - sim0, 3)})
+    in_plan = True
+    if series.adjustments:
+        last = series.adjustments[-1]
+        plans = [p for p in series.plans if p.plan_id == last.plan_id]
+        index = last.step_index + 2
+        landing = last.footsteps[index]
+        in_plan = bool(plans) and len(plans[-1].footsteps) > index and \
+            abs(plans[-1].footsteps[index].x - landing.x) < 1e-9 and \
+            abs(plans[-1].footsteps[index].y - landing.y) < 1e-9
+    return {'steps': steps, 'in_plan': in_plan}
+
+
 def phase_at(states, t: float) -> str:
     """The walking phase and support foot at t, from walking_state records (t, phase, step,
     fallen, reason, support), e.g. 'single right, step 7'."""
@@ -108,8 +143,11 @@ def gait_command(session, gait: str) -> None:
 
 
 def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: List[float],
-        adjustment: bool, interval: float = INTERVAL) -> dict:
-    """Walk, push with the forces of schedule from direction_deg at phase, until a fall."""
+        adjustment: bool, interval: float = INTERVAL, plot: bool = False) -> dict:
+    """Walk, push with the forces of schedule from direction_deg at phase, until a fall.
+
+    :param plot: also write the COM velocity and footsteps figure (plot_run)
+    """
     from biped_msgs.msg import WalkingState
     wall0 = time.monotonic()
     extra = {'reference_generator': [f'step_adjustment.enabled:={str(adjustment).lower()}'],
@@ -148,7 +186,8 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
                 break
             earliest = at + interval
         result = base_result(trial, session, wall0, sim0)
-        adjustments = len(session.series.adjustments)
+        series = session.series
+        adjustments = adjustment_records(series, sim0)
         for push in pushes:
             push['met'] = phase_at(session.series.states, push['at_s'] + sim0)
     t_fall = result['fall_time_s']
@@ -156,12 +195,64 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
     fell = [p['force_n'] for p in pushes if p['force_n'] not in walked]
     result.update({
         'direction_deg': direction_deg, 'phase': phase, 'gait': gait, 'adjustment': adjustment,
-        'pushes': pushes, 'step_adjustments': adjustments,
+        'pushes': pushes, 'step_adjustments': len(adjustments['steps']),
+        'adjustments': adjustments['steps'],
+        'plan_has_adjusted_landings': adjustments['in_plan'],
         'largest_withstood_n': max(walked) if walked else 0.0,
         'first_fall_force_n': fell[0] if fell else None,
     })
     result['success'] = bool(walked)
+    if plot:
+        result['plots'] = [str(plot_run(trial, series, result, sim0))]
     return write_result(trial, result)
+
+
+def plot_run(trial: Trial, series, result: dict, sim0: float):
+    """COM velocity with the push bands (left) and the footsteps seen from above (right): the
+    plan as first published, the plan after the adjustments (adjusted landings in red) and the
+    COM path."""
+    from biped_tools.run_plots import foot_outline, pyplot, save_figure
+    plt = pyplot()
+    com = np.array(series.com) if series.com else np.zeros((0, 4))
+    fig, (speed, top) = plt.subplots(1, 2, figsize=(12, 4.5))
+    if len(com) > 2:
+        t = com[:, 0] - sim0
+        for axis, name, colour in ((1, 'x', 'b'), (2, 'y', 'g')):
+            speed.plot(t, np.gradient(com[:, axis], com[:, 0]), colour + '-', lw=1,
+                       label=f'COM velocity {name}')
+        top.plot(com[:, 1], com[:, 2], 'k-', lw=0.8, label='COM')
+    for push in result['pushes']:
+        speed.axvspan(push['at_s'], push['at_s'] + DURATION, color='m', alpha=0.3)
+        speed.text(push['at_s'], 0.9 * max(speed.get_ylim()[1], 0.1),
+                   f'{push["force_n"]:.0f} N', fontsize=7, rotation=90)
+    for record in result['adjustments']:
+        speed.axvline(record['at_s'], color='r', lw=0.6, alpha=0.6)
+    speed.set_xlabel('simulated time (s)')
+    speed.set_ylabel('m/s')
+    speed.legend(loc='lower left', fontsize=8)
+    speed.set_title(f'{result["direction_deg"]:g} deg, {result["phase"]}, {result["gait"]}; '
+                    f'red: step adjustments')
+    plans = [p for p in series.plans if p.status == 0 and p.footsteps]
+    if plans:
+        walked = [p for p in plans if p.plan_id == plans[-1].plan_id]
+        for step in walked[0].footsteps:
+            top.add_patch(foot_outline(step, 0.2, 0.1, edgecolor='0.6', fill=False, lw=0.8))
+        moved = {(round(r['landing'][0], 4), round(r['landing'][1], 4))
+                 for r in result['adjustments']}
+        for step in walked[-1].footsteps:
+            red = (round(step.x, 4), round(step.y, 4)) in moved
+            top.add_patch(foot_outline(step, 0.2, 0.1, edgecolor='r' if red else 'b',
+                                       fill=False, lw=1.2 if red else 0.8))
+    top.set_aspect('equal')
+    top.autoscale_view()
+    top.set_xlabel('x (m)')
+    top.set_ylabel('y (m)')
+    top.set_title('footsteps: first plan (grey), walked plan (blue), adjusted (red)')
+    top.legend(loc='lower left', fontsize=8)
+    adjustment = 'on' if result['adjustment'] else 'off'
+    fig.suptitle(f'Push recovery, step adjustment {adjustment} ({trial.model}): largest '
+                 f'withstood {result["largest_withstood_n"]:.0f} N')
+    return save_figure(fig, trial.directory / 'push_com_velocity_footsteps.png')
 
 
 def table(results: List[dict]) -> str:

@@ -2,7 +2,7 @@
 frames (parameter camera.frames_dir) while the scenario runs; they become an animated GIF."""
 from pathlib import Path
 
-from biped_tools.scenarios import disk, omni, push, terrain
+from biped_tools.scenarios import disk, omni, push, push_directions, terrain
 
 
 def run_video(args, make_trial) -> int:
@@ -18,6 +18,9 @@ def run_video(args, make_trial) -> int:
         omni.run(trial, 1.0, duration=24.0)
     elif args.which == 'push':
         push.run(trial, [80.0, 100.0, 120.0])
+    elif args.which == 'push-adjusted':  # the graph test's push, step adjustment on
+        push_directions.run(trial, 0.0, 'early_single', 'in_place', [160.0], True,
+                            interval=3.0, plot=True)
     else:
         terrain.run(trial, 400, seed=1, side=2.0)
     out = Path(trial.directory) / f'{args.which}_{trial.model}.gif'
