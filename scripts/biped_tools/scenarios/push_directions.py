@@ -92,7 +92,7 @@ def adjustment_records(series, sim0: float) -> dict:
     for msg in series.adjustments:
         index = msg.step_index + 2
         before = [p for p in series.plans if p.plan_id == msg.plan_id and
-                  seconds(p.header.stamp) <= seconds(msg.header.stamp) and
+                  seconds(p.header.stamp) < seconds(msg.header.stamp) and
                   len(p.footsteps) > index]
         landing = msg.footsteps[index]
         planned = before[-1].footsteps[index] if before else landing
