@@ -48,3 +48,14 @@ def test_schedule_and_table():
     text = table(results)
     assert '| 90 deg | 190 / 240 |' in text
     assert '| minimum | 100 / 150 N' in text
+
+
+def test_a_push_is_walked_through_when_the_robot_stands_at_the_next_one():
+    from biped_tools.scenarios.push_directions import outcome
+    pushes = [{'force_n': f, 'at_s': at} for f, at in ((80, 3.0), (110, 6.0), (140, 9.0))]
+    assert outcome(pushes, None) == ([80, 110, 140], None)
+    assert outcome(pushes, 10.0) == ([80, 110], 140)
+    assert outcome(pushes, 7.0) == ([80], 110)
+    # fell after 110 N's window closed but before 140 N started: 110 N felled it
+    assert outcome(pushes, 8.9) == ([80], 110)
+    assert outcome(pushes, 2.0) == ([], None)  # down before any push

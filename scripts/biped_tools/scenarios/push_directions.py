@@ -114,11 +114,35 @@ def adjustment_records(series, sim0: float) -> dict:
     return {'steps': steps, 'in_plan': in_plan}
 
 
+def outcome(pushes: List[Dict], t_fall: Optional[float]):
+    """The forces walked through and the first that felled the robot.
+
+    A push is walked through when the robot still stands when the next one starts (the last
+    one: at the end of the run); a push that met a robot already down counts for neither.
+
+    :param pushes: {'force_n', 'at_s', 'met'} in order, times from the run's start
+    :param t_fall: fall time (s) or None (a run ends early only by a fall)
+    :return: (forces walked through, first felling force or None)
+    """
+    walked, first_fall = [], None
+    for index, push in enumerate(pushes):
+        if t_fall is not None and t_fall <= push['at_s']:
+            break  # met a fallen robot
+        last = index + 1 == len(pushes)
+        if t_fall is None or not last and pushes[index + 1]['at_s'] <= t_fall:
+            walked.append(push['force_n'])
+        else:
+            first_fall = push['force_n']
+            break
+    return walked, first_fall
+
+
 def phase_at(states, t: float) -> str:
-    """The walking phase and support foot at t, from walking_state records (t, phase, step,
-    fallen, reason, support), e.g. 'single right, step 7'."""
+    """The walking phase and support foot 10 ms into a push at t (a push at a phase's first
+    instant meets that phase), from walking_state records (t, phase, step, fallen, reason,
+    support), e.g. 'single right, step 7'."""
     from biped_msgs.msg import WalkingState
-    before = [s for s in states if s[0] <= t + 1e-6]
+    before = [s for s in states if s[0] <= t + 0.01]
     if not before:
         return 'before the walk'
     _, phase, step, _, _, support = before[-1]
@@ -190,16 +214,14 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
         adjustments = adjustment_records(series, sim0)
         for push in pushes:
             push['met'] = phase_at(session.series.states, push['at_s'] + sim0)
-    t_fall = result['fall_time_s']
-    walked = [p['force_n'] for p in pushes if t_fall is None or p['at_s'] + interval <= t_fall]
-    fell = [p['force_n'] for p in pushes if p['force_n'] not in walked]
+    walked, first_fall = outcome(pushes, result['fall_time_s'])
     result.update({
         'direction_deg': direction_deg, 'phase': phase, 'gait': gait, 'adjustment': adjustment,
         'pushes': pushes, 'step_adjustments': len(adjustments['steps']),
         'adjustments': adjustments['steps'],
         'plan_has_adjusted_landings': adjustments['in_plan'],
         'largest_withstood_n': max(walked) if walked else 0.0,
-        'first_fall_force_n': fell[0] if fell else None,
+        'first_fall_force_n': first_fall,
     })
     result['success'] = bool(walked)
     if plot:
