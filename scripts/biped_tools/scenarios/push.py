@@ -22,6 +22,7 @@ PUSH_PHASE = PUSH_FRACTION * TIMING[0]  # s into the single support (0.075 s)
 INTERVAL = 8.0           # s between pushes (20 steps)
 DURATION = 0.1           # s
 RECOVERY = INTERVAL      # s of walking after the last push to call it withstood (like the others)
+START_LEAD = 2.0         # s of sim time between the START command and the walk's start
 
 
 def forces(first: float = 80.0, maximum: float = 400.0) -> List[float]:
@@ -40,7 +41,10 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
     with graph_for(trial, timing=TIMING) as session:
         progress = Progress(trial)
         sim0 = session.sim_time()
-        session.send_command(command=WalkCommand.START)   # in place
+        # in place, from a stated sim time: the trial does not depend on when the command got
+        # through (the pushes are timed from the walk's start)
+        session.send_command(command=WalkCommand.START,
+                             start_time=round(session.sim_time() + START_LEAD, 2))
         session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
         walk0 = session.walk_start_time
         # the first single support begins after Initialize (1 s) and the first double support
