@@ -1,12 +1,14 @@
 """Bad inputs of the user's and the planner's side: walk_command, goal_pose, cmd_vel, map,
-footstep_plan, walking_state, sole_poses, and the services reset and plan_walk.
+footstep_plan, walking_state, sole_poses, balance_estimate, step_adjustment, and the services
+reset and plan_walk (the graph runs with the step adjuster on: GRAPH_OVERRIDES).
 
 Each Case names the nodes that read the input and what their answer must say
 (bad_input_harness). Sent while the robot walks in place.
 """
 import math
 
-from biped_msgs.msg import FootstepPlan, WalkCommand, WalkingState
+from biped_msgs.msg import (BalanceEstimate, Footstep, FootstepPlan, StepAdjustment,
+                            WalkCommand, WalkingState)
 from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseArray, PoseStamped, Twist
 from nav_msgs.msg import OccupancyGrid
@@ -48,7 +50,11 @@ TOPICS = {
         m.status == FootstepPlan.STATUS_OK and len(m.footsteps) > 3)),
     'walking_state': Topic(WalkingState),
     'sole_poses': Topic(PoseArray),
+    'balance_estimate': Topic(BalanceEstimate),
+    'step_adjustment': Topic(StepAdjustment, flow=False),
 }
+# the reference generator reads balance_estimate only with its step adjuster on
+GRAPH_OVERRIDES = {'reference_generator': ['step_adjustment.enabled:=true']}
 SERVICES = {'reset': Trigger, 'plan_walk': PlanWalk}
 
 SM, PLANNER, REFERENCES, CONTROLLER, SIM = ('state_machine', 'footstep_planner',
@@ -275,6 +281,64 @@ SOLE_POSES = [
 ]
 
 
+# --- balance_estimate (controller -> the reference generator's step adjuster) ---------------
+def far_estimate(m):
+    m.com.x += 2.0
+    m.dcm.x += 2.0
+
+
+def ahead(m):
+    m.header.stamp.sec += 30
+
+
+BALANCE_ESTIMATE = [
+    ('com.x NaN', 'nan', setting('com.x', NAN)),
+    ('dcm.y inf', 'inf', setting('dcm.y', INF)),
+    ('dcm.x 1e30', 'huge', setting('dcm.x', HUGE)),
+    ('com and dcm 2 m off the plan', 'bounds', mutated(far_estimate)),
+    ('stamp 30 s ahead', 'stamp', mutated(ahead)),
+    ('frame_id odom', 'frame', setting('header.frame_id', 'odom')),
+]
+
+
+# --- step_adjustment (the reference generator -> planner, state machine) -------------------
+def adjustment(change):
+    """A StepAdjustment of the walk under way that keeps its plan and touchdown, then change."""
+    def build(_msg, fuzzer):
+        state = fuzzer.state()
+        plans = [p for p in fuzzer.session.series.plans if p.plan_id == state.plan_id and
+                 p.status == FootstepPlan.STATUS_OK]
+        msg = StepAdjustment(plan_id=state.plan_id, revision=1, step_index=state.step_index,
+                             touchdown_time=state.walk_start_time + 1.0,
+                             footsteps=[Footstep(side=f.side, x=f.x, y=f.y, yaw=f.yaw)
+                                        for f in (plans[-1].footsteps if plans else [])])
+        msg.header.frame_id = 'map'
+        msg.header.stamp = fuzzer.session.node.get_clock().now().to_msg()
+        change(msg)
+        return msg
+    return build
+
+
+def moved_walked_footstep(m):
+    m.footsteps[0].x += 0.05
+
+
+STEP_ADJUSTMENT = [  # (variant, kind, change, readers)
+    ('footsteps[3].x NaN', 'nan', lambda m: setattr(m.footsteps[3], 'x', NAN), (PLANNER,)),
+    ('footsteps[3].y 1e30', 'huge', lambda m: setattr(m.footsteps[3], 'y', HUGE), (PLANNER,)),
+    ('no footsteps', 'empty', lambda m: setattr(m, 'footsteps', []), (PLANNER,)),
+    ('footsteps[2].side 7', 'enum', lambda m: setattr(m.footsteps[2], 'side', 7), (PLANNER,)),
+    ('a walked footstep moved', 'state', moved_walked_footstep, (PLANNER,)),
+    ('step_index 2^32 - 1', 'huge', lambda m: setattr(m, 'step_index', 2 ** 32 - 1),
+     (PLANNER, SM)),
+    ('plan_id 999', 'state', lambda m: setattr(m, 'plan_id', 999), (PLANNER, SM)),
+    ('touchdown_time inf', 'inf', lambda m: setattr(m, 'touchdown_time', INF), (SM,)),
+    ('touchdown_time NaN', 'nan', lambda m: setattr(m, 'touchdown_time', NAN), (SM,)),
+    ('touchdown_time 1e30', 'huge', lambda m: setattr(m, 'touchdown_time', HUGE), (SM,)),
+    ('frame_id odom', 'frame', lambda m: setattr(m.header, 'frame_id', 'odom'), (PLANNER,)),
+]
+
+
 # --- services -----------------------------------------------------------------------------
 def plan_walk(kind, command_fields=None, goal_fields=None, velocity=None, request_id=900001):
     def build(_msg, _fuzzer):
@@ -324,6 +388,11 @@ def cases() -> list:
          for v, k, b, readers in WALKING_STATE],
         [Case('sole_poses', v, k, b, {PLANNER: logs('sole_poses', k, v)})
          for v, k, b in SOLE_POSES],
+        [Case('balance_estimate', v, k, b, {REFERENCES: logs('balance_estimate', k, v)})
+         for v, k, b in BALANCE_ESTIMATE],
+        [Case('step_adjustment', v, k, adjustment(change), {node: logs('step_adjustment', k, v)
+                                                           for node in readers})
+         for v, k, change, readers in STEP_ADJUSTMENT],
         [Case('plan_walk', v, k, b, {PLANNER: refused_response(INVALID_COMMAND, UNKNOWN_FRAME)},
               service=True) for v, k, b in PLAN_WALK],
         [Case('reset', 'while walking', 'state', lambda _m, _f: Trigger.Request(),

@@ -19,14 +19,16 @@ def graph_nodes() -> list:
     return nodes
 
 
-def fuzz_walking_graph(name: str, topics, services, cases, spacing) -> list:
+def fuzz_walking_graph(name: str, topics, services, cases, spacing, overrides=None) -> list:
     """Start the graph, walk in place, send every case; :return: the CaseResults.
+
+    :param overrides: node parameters, {node: ['name:=value', ...]}
 
     Asserts what holds for the whole run: every node alive at the end, the robot standing and
     still walking in place (its step index went on).
     """
     with GraphSession(domain_id_for_worker(), nodes=graph_nodes(), keep_going=True,
-                      log=print) as session:
+                      overrides=overrides, log=print) as session:
         session.wait_until_ready(120.0)
         fuzzer = Fuzzer(session, topics, services, spacing)
         fuzzer.start_walking()
