@@ -17,8 +17,8 @@ import math
 import time
 
 from biped_mpc.balance.measured_dcm import MeasuredDcm
-from biped_planner.step_adjuster import OnlineStepAdjuster
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_planner.step_adjuster import OnlineStepAdjuster
 from biped_sim import push_trial
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.reference_sources import AdjustedWalk
