@@ -13,7 +13,8 @@ from ros_harness import REPO
 
 # the names the graph's nodes subscribe to or serve (tests/graph and the node docstrings)
 GRAPH_TOPICS = {'walk_command', 'goal_pose', 'cmd_vel', 'walking_state', 'footstep_plan',
-                'map', 'odom', 'joint_states', 'reference_trajectory'}
+                'map', 'odom', 'joint_states', 'reference_trajectory', 'step_adjustment',
+                'balance_estimate'}
 GRAPH_SERVICES = {'reset', 'push', 'set_terrain', 'plan_walk'}
 
 
