@@ -51,7 +51,7 @@ def stamp_seconds(stamp) -> float:
 
 
 VELOCITY_PERIOD = 0.1  # s of sim time between repeated cmd_vel messages (10 Hz teleop)
-DISCOVERY_WAIT = 0.5  # s of wall time to see another graph's nodes on the domain before starting
+DISCOVERY_WAIT = 0.5  # s of wall time to hear another graph's /clock on the domain before starting
 
 
 def close_client(executor, node, context) -> None:
@@ -137,16 +137,19 @@ class GraphSession:
                                         log=lambda text: None)
 
     def _check_domain_free(self) -> None:
-        """Refuse a domain where nodes of another graph run (a run killed without its cleanup
-        leaves its nodes walking, and their messages would mix into this run's)."""
+        """Refuse a domain where another graph's simulator runs: its /clock reaches this
+        session's clock (a run killed without its cleanup leaves its nodes walking, and their
+        messages would mix into this run's). Node names alone are no evidence: a node that
+        was just destroyed stays in the discovery data for a while."""
         deadline = time.monotonic() + DISCOVERY_WAIT
-        ours = set(self.graph.options.nodes)
+        clock = self.node.get_clock()
         while time.monotonic() < deadline:
             self.executor.spin_once(timeout_sec=0.05)
-            found = ours & set(self.node.get_node_names())
-            if found:
-                raise RuntimeError(f'ROS domain {self.domain_id} already runs {sorted(found)}: '
-                                   'another graph is there (stop it, or use another domain)')
+            if clock.now().nanoseconds > 0:
+                others = sorted(set(self.graph.options.nodes) & set(self.node.get_node_names()))
+                raise RuntimeError(f'ROS domain {self.domain_id} already has a clock running '
+                                   f'(another graph\'s simulator; nodes seen: {others}): stop '
+                                   'it, or use another domain')
 
     def stop(self) -> None:
         if self._context is None:

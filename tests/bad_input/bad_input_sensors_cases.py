@@ -52,8 +52,10 @@ def drop_last(name: str):
 
 
 def empty_reference(msg):
-    for name in msg.get_fields_and_field_types():
-        if name not in ('header', 'plan_id', 'dt'):
+    """Every array empty (the scalar fields keep their values: a setter takes anything, and a
+    list in an integer field aborts the message's conversion to C)."""
+    for name, kind in msg.get_fields_and_field_types().items():
+        if kind.startswith('sequence<'):
             setattr(msg, name, [])
 
 

@@ -12,12 +12,15 @@ from pathlib import Path
 import statistics
 import time
 
+from biped_msgs.msg import FootstepPlan
+
 from biped_tools.graph_session import GraphSession, IDLE
 from biped_tools.paths import PAPER_MAP
 from biped_tools.run_plots import top_view, zmp_figure, zmp_inside_fraction
 from biped_tools.scenarios.trial import fresh_bag_dir, graph_overrides, Trial, write_result
 
 GOAL_TOLERANCE = 0.15  # m between the final pelvis and the goal
+NO_MAP_RETRIES = 5     # goals sent while the planner answers that it has no map yet
 
 
 def arrived(summary: dict) -> bool:
@@ -40,9 +43,18 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
         grid = session.map
         t0 = session.sim_time()
         log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
-        session.send_goal(goal.x, goal.y, goal.yaw)
-        session.spin_until(lambda: session.series.plans, 20.0)
-        plan = session.series.plans[-1] if session.series.plans else None
+        plan = None
+        for _ in range(NO_MAP_RETRIES):
+            count = len(session.series.plans)
+            session.send_goal(goal.x, goal.y, goal.yaw)
+            session.spin_until(lambda: len(session.series.plans) > count, 20.0)
+            plan = session.series.plans[-1] if len(session.series.plans) > count else None
+            # the planner serves plan_walk once it knows the robot's pose; the map can come a
+            # moment later (both latched): a goal before it is refused with NO_MAP
+            if plan is None or plan.error_code != FootstepPlan.ERROR_NO_MAP:
+                break
+            log('[demo] the planner has no map yet: goal sent again in 0.5 s')
+            session.spin_until(lambda: False, 0.5)
         if plan is None or plan.status != 0:
             raise RuntimeError(f'planning failed: {plan.error_msg if plan else "no plan"}')
         walked = session.spin_until(lambda: session.phase() not in (None, IDLE), 20.0)
