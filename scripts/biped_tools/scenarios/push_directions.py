@@ -21,6 +21,7 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from biped_tools.graph_session import stamp_seconds
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, Trial,
                                          write_result)
 
@@ -86,17 +87,15 @@ def adjustment_records(series, sim0: float) -> dict:
     adjustment's time (from sim0), step, landing and the landing the plan had before it; and
     whether the planner's last plan of the walk holds the last adjusted landing (the planner
     republished it)."""
-    def seconds(stamp):
-        return stamp.sec + stamp.nanosec * 1e-9
     steps = []
     for msg in series.adjustments:
         index = msg.step_index + 2
         before = [p for p in series.plans if p.plan_id == msg.plan_id and
-                  seconds(p.header.stamp) < seconds(msg.header.stamp) and
+                  stamp_seconds(p.header.stamp) < stamp_seconds(msg.header.stamp) and
                   len(p.footsteps) > index]
         landing = msg.footsteps[index]
         planned = before[-1].footsteps[index] if before else landing
-        steps.append({'at_s': round(seconds(msg.header.stamp) - sim0, 3),
+        steps.append({'at_s': round(stamp_seconds(msg.header.stamp) - sim0, 3),
                       'step': msg.step_index, 'revision': msg.revision,
                       'landing': (round(landing.x, 4), round(landing.y, 4)),
                       'planned_landing': (round(planned.x, 4), round(planned.y, 4)),
@@ -184,19 +183,21 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
         gait_command(session, gait)
         session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
         earliest = session.walk_start_time + FIRST_PUSH
+
+        def single_state_near() -> Optional[object]:
+            """A single support shortly before the next push: the phases after it are
+            nominal."""
+            state = session.walking_state
+            if state is None or state.phase != WalkingState.SINGLE_SUPPORT:
+                return None
+            t = stamp_seconds(state.header.stamp)
+            return state if t >= earliest - 1.0 - LEAD else None
         for force in schedule:
-            # a single support shortly before the push: the phases after it are nominal
-            def single_state_near() -> Optional[object]:
-                state = session.walking_state
-                if state is None or state.phase != WalkingState.SINGLE_SUPPORT:
-                    return None
-                t = state.header.stamp.sec + state.header.stamp.nanosec * 1e-9
-                return state if t >= earliest - 1.0 - LEAD else None
             if not drive(session, lambda t: single_state_near() is not None,
                          earliest - session.sim_time() + 2.0, progress):
                 break
             state = single_state_near()
-            now = state.header.stamp.sec + state.header.stamp.nanosec * 1e-9
+            now = stamp_seconds(state.header.stamp)
             at = next_push_time(now - state.time_in_phase, state.phase_duration,
                                 SUPPORT_NAMES[state.support_foot], phase,
                                 max(earliest, session.sim_time() + LEAD))

@@ -122,6 +122,19 @@ def shortcut_path(points: np.ndarray, planner: AStarPlanner) -> np.ndarray:
     return points[kept]
 
 
+def shortened_path(planner: AStarPlanner, start: Pose2D, goal: Pose2D):
+    """The A* path from start to goal, its ends on the exact poses, shortened (shortcut_path).
+
+    :return: (the grid path, the shortened (K, 2) path)
+    :raises PlanningError: (a subclass) if A* finds no path
+    """
+    grid_path = planner.plan((start.x, start.y), (goal.x, goal.y))
+    points = grid_path.points.copy()
+    points[0] = (start.x, start.y)
+    points[-1] = (goal.x, goal.y)
+    return grid_path, shortcut_path(points, planner)
+
+
 class _Polyline:
     """Arc-length parameterised polyline."""
 
@@ -187,11 +200,7 @@ class FootstepPlanner:
         """
         check_type('start', start, Pose2D)
         check_type('goal', goal, Pose2D)
-        grid_path = planner.plan((start.x, start.y), (goal.x, goal.y))
-        points = grid_path.points.copy()
-        points[0] = (start.x, start.y)
-        points[-1] = (goal.x, goal.y)
-        path = shortcut_path(points, planner)
+        grid_path, path = shortened_path(planner, start, goal)
         return FootstepPlan(grid_path, path, self.plan_along_path(path, start, goal))
 
     def plan_along_path(self, path: np.ndarray, start: Pose2D, goal: Pose2D,
@@ -242,11 +251,7 @@ class FootstepPlanner:
         params = self._params
         state = FeetState.from_footsteps(tuple(footsteps), params.step_width, params.limits)
         start = state.body
-        grid_path = planner.plan((start.x, start.y), (goal.x, goal.y))
-        points = grid_path.points.copy()
-        points[0] = (start.x, start.y)
-        points[-1] = (goal.x, goal.y)
-        path = shortcut_path(points, planner)
+        grid_path, path = shortened_path(planner, start, goal)
         line = _Polyline(np.vstack(([start.x, start.y], path, [goal.x, goal.y])))
         walking = FirstOrderLag(params.lag_time_constant, [params.step_length, 0.0])
         return FootstepPlan(grid_path, path, self._walk_to(state, line, goal, walking))

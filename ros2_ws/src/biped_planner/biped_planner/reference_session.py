@@ -139,12 +139,10 @@ class ReferenceSession:
             return None
         self._reference = output.reference
         self._adjustments += 1
-        step = before.single_support_at(t)
-        phase = before.phases[step]
-        adjusted = output.reference.phases[step]
-        planned_dcm = swing_step_at(before, t).reference_dcm(t)
-        return AppliedAdjustment(self.plan_id, output.revision, phase.step_index - 1,
-                                 float(adjusted.t_end), float(phase.t_end),
+        swing = swing_step_at(before, t)
+        planned_dcm = swing.reference_dcm(t)
+        return AppliedAdjustment(self.plan_id, output.revision, swing.step,
+                                 swing.lift_off + output.adjustment.duration, swing.touchdown,
                                  tuple(output.reference.footsteps),
                                  (float(dcm[0]) - planned_dcm[0], float(dcm[1]) - planned_dcm[1]))
 

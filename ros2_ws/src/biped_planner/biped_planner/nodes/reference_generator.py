@@ -54,6 +54,7 @@ from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
 from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.node_support.stamps import seconds_of
 from biped_planner.node_support.walking_state_checks import walking_state_problem
 from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_poses,
                                              footstep_msgs, footsteps_from_msgs)
@@ -147,8 +148,7 @@ class ReferenceGeneratorNode(Node):
 
     def _on_balance(self, msg: BalanceEstimate) -> None:
         """The controller's balance estimate: the step adjuster answers it."""
-        stamp = msg.header.stamp
-        t = stamp.sec + stamp.nanosec * 1e-9
+        t = seconds_of(msg.header.stamp)
         try:
             if msg.header.frame_id != self._frame:
                 raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
