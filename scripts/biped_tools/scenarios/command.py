@@ -8,7 +8,7 @@ result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
   scenarios.py omni [--scale 1.0 | --sweep] [--duration 36]
   scenarios.py push [--forces 80 100 ...]            (default: the paper's schedule to a fall)
   scenarios.py push-directions [--directions 0 45 ...] [--phases early_single ...]
-               [--gaits in_place forward] [--adjustment off on] [--forces 60 80 ...]
+               [--gaits in_place forward] [--adjustment off on] [--forces 80 110 ...]
   scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
   scenarios.py goal
   scenarios.py summary [--seeds 1 2 3] [--jobs 2]    (all of them, both models, the table)
