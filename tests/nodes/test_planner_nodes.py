@@ -175,6 +175,27 @@ def test_goals_the_state_machine_rejects_the_planner_rejects_too(graph, x, y, fr
     assert plan.request_id == 77
 
 
+def test_a_request_sent_again_is_answered_without_planning_twice(graph):
+    """The state machine sends an unanswered request again (its answer may have been lost):
+    the planner answers the repeat with its first answer and publishes no second plan; a new
+    request id is planned anew."""
+    def request(request_id):
+        return PlanWalk.Request(request_id=request_id, kind=PlanWalk.Request.KIND_GOAL,
+                                goal=goal(graph['goal_pose'].x, graph['goal_pose'].y))
+    plans = len(graph['plans'].messages)
+    first = call_plan_walk(graph, request(31))
+    assert first.accepted
+    assert latest_plan(graph, count=plans).plan_id == first.plan_id
+    plans = len(graph['plans'].messages)
+    again = call_plan_walk(graph, request(31))
+    assert (again.accepted, again.plan_id) == (True, first.plan_id)
+    graph['clock'].advance(0.2)
+    assert len(graph['plans'].messages) == plans
+    new = call_plan_walk(graph, request(32))
+    assert new.accepted and new.plan_id != first.plan_id
+    assert latest_plan(graph, count=plans).plan_id == new.plan_id
+
+
 def test_unknown_request_kinds_and_commands_are_refused_by_the_planner(graph):
     bad_kind = call_plan_walk(graph, PlanWalk.Request(request_id=5, kind=9))
     assert not bad_kind.accepted and 'unknown request kind 9' in bad_kind.error_msg
@@ -270,22 +291,26 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
     g['cmd_vel'].publish(Twist())  # walk in place
     first = latest_plan(g)
 
-    def in_single_support():
-        states = g['states'].messages
-        return states and states[-1].phase == WalkingState.SINGLE_SUPPORT and \
-            states[-1].support_foot == WalkingState.SUPPORT_RIGHT and \
-            states[-1].time_in_phase < 0.1
-    for _ in range(80):
-        g['clock'].advance(0.05, pace=2.0)
+    def early_right_single_support(reference):
+        """A reference that starts early in a single support on the right foot (at least
+        0.2 s of it ahead): its own support column says so, whatever walking_state lags."""
+        ahead = list(reference.support[:10])
+        return len(ahead) == 10 and all(s == ReferenceTrajectory.SUPPORT_RIGHT for s in ahead)
+
+    def newest_early_reference():
+        refs = g['refs'].messages
+        return refs[-1] if refs and early_right_single_support(refs[-1]) else None
+    for _ in range(200):
+        g['clock'].advance(0.02, pace=2.0)
         g['cmd_vel'].publish(Twist())
-        if in_single_support():
+        if newest_early_reference() is not None:
             break
-    assert in_single_support(), 'no single support on the right foot'
-    state = g['states'].messages[-1]
+    reference = newest_early_reference()
+    assert reference is not None, 'no single support on the right foot'
+    step = reference.step_index[0] - 1  # the reference counts k + 1 during step k
     plans = len(g['plans'].messages)
     omega = math.sqrt(9.81 / 0.5)
-    for _ in range(10):  # one estimate a period, on the newest reference, until it is answered
-        reference = g['refs'].messages[-1]
+    for _ in range(10):  # one estimate a period, early in that support, until it is answered
         hip = np.array([reference.hip_x[0], reference.hip_y[0]])
         velocity = (np.array([reference.hip_x[1], reference.hip_y[1]]) - hip) / reference.dt
         estimate = BalanceEstimate(omega=omega)
@@ -298,12 +323,13 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
         if adjustments.wait_for(g['executor'], lambda m: len(m) >= 1, 1.0):
             break
         g['clock'].advance(0.02)
+        reference = newest_early_reference() or reference
     assert adjustments.messages, 'no adjustment'
     adjusted = adjustments.messages[0]
-    assert adjusted.plan_id == first.plan_id and adjusted.step_index == state.step_index
+    assert adjusted.plan_id == first.plan_id and adjusted.step_index == step
     landing = adjusted.footsteps[adjusted.step_index + 2]
     planned = [p for p in g['plans'].messages if p.plan_id == first.plan_id][-1]
-    assert landing.side == 0 and landing.y > planned.footsteps[state.step_index + 2].y + 0.02
+    assert landing.side == 0 and landing.y > planned.footsteps[step + 2].y + 0.02
     # the planner republishes the adjusted plan, same id
     republished = latest_plan(g, count=plans)
     assert republished.plan_id == first.plan_id

@@ -17,6 +17,7 @@ Publishes (transient local): footstep_plan (biped_msgs/FootstepPlan, with status
 plan (nav_msgs/Path), footstep_markers (visualization_msgs/MarkerArray).
 """
 from typing import Optional, Tuple
+import time
 
 from biped_msgs.msg import FootstepPlan, StepAdjustment, WalkingState
 from biped_msgs.srv import PlanWalk
@@ -66,6 +67,7 @@ PLANNING_ERRORS = [
 PHASES = {int(phase) for phase in Phase}
 SUPPORTS = {WalkingState.SUPPORT_LEFT, WalkingState.SUPPORT_RIGHT, WalkingState.SUPPORT_DOUBLE}
 MAX_RESOLUTION = 100.0  # m: a map cell larger than this is no map of a walking robot
+REPEAT_WINDOW = 15.0  # s of wall time: a request identical to the last one is its resending
 # The reference generator splices a new plan in at the next double support: from a double
 # support on, or this close before one (s), the next step is committed and a stop ends after it.
 STOP_LEAD = 0.1
@@ -123,6 +125,7 @@ class FootstepPlannerNode(Node):
         # plan_walk is offered once the robot's pose is known: a caller that finds the service
         # (the state machine waits for it) is never refused for a start not yet received
         self._service = None
+        self._last_served = None  # (request, response, wall time) of the last plan_walk call
         self.get_logger().info('footstep planner ready (plan_walk once odom or sole_poses '
                                'arrive)')
 
@@ -219,6 +222,9 @@ class FootstepPlannerNode(Node):
 
     # --- the plan_walk service --------------------------------------------------------------
     def _on_plan_walk(self, request: PlanWalk.Request, response: PlanWalk.Response):
+        if self._last_served is not None and self._last_served[0] == request and \
+                time.monotonic() - self._last_served[2] < REPEAT_WINDOW:
+            return self._last_served[1]  # sent again (its answer was lost): served once
         try:
             failure = self._serve(request)
         except BipedPlannerError as error:  # a library error not caught below: still answered
@@ -226,6 +232,7 @@ class FootstepPlannerNode(Node):
         response.plan_id = int(self._session.plan_id)
         response.accepted = failure is None
         response.error_code, response.error_msg = failure or (FootstepPlan.ERROR_NONE, '')
+        self._last_served = (request, response, time.monotonic())
         return response
 
     def _serve(self, request: PlanWalk.Request) -> Failure:

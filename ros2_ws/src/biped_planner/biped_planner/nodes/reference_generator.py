@@ -212,9 +212,6 @@ class ReferenceGeneratorNode(Node):
             self._reject('walking_state', why)
             return
         self._watch.arrived('walking_state', self._now(), time.monotonic())
-        if msg.phase in WALKING_PHASES and msg.walk_start_time > self._now() + MAX_STAMP_LEAD:
-            return  # scheduled: its reference is built MAX_STAMP_LEAD before the start, at a
-            # sim time that does not depend on when the plan arrived (reproducible runs)
         if self._epoch is None:
             self._epoch = msg.epoch
         elif msg.epoch != self._epoch:

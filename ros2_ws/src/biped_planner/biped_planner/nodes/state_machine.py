@@ -62,6 +62,8 @@ MAX_ADJUSTMENT_LEAD = 5.0  # s: an adjusted touchdown farther from the clock is 
 STREAMS = ('odom', 'reference_trajectory', 'controller_diagnostics')
 WALK_PRODUCERS = ('reference_trajectory', 'controller_diagnostics')  # their loss ends a walk
 KNOWN_COMMANDS = {int(kind) for kind in CommandKind}
+PLANNER_RESEND = 1.0  # s of wall time: an unanswered plan_walk request is sent again (a request
+#                       sent just after discovery can be lost: the server's side had not matched)
 RESET_SETTLE = 0.5  # s: fallen odometry this soon after a reset predates it
 # planner errors that say the request itself was wrong (the rest: not possible now)
 INVALID_REQUEST_ERRORS = {FootstepPlan.ERROR_INVALID_COMMAND, FootstepPlan.ERROR_UNKNOWN_FRAME,
@@ -90,6 +92,7 @@ class StateMachineNode(Node):
         self._plan_step = 0   # the step being taken when the walk's plan last arrived
         self._requests = PlanRequests(self.get_parameter('planner_timeout').value)
         self._unsent = {}     # request id -> content, until plan_walk is discovered
+        self._unanswered = {}  # request id -> (content, wall time sent), until answered
         sim_time = self.get_parameter('use_sim_time').value
         self._watch = InputWatch(STREAMS, (PLAN,), self.get_parameter('input_timeout').value,
                                  '/clock' if sim_time else None, ('odom',))
@@ -274,9 +277,11 @@ class StateMachineNode(Node):
             return
         future = self._planner.call_async(plan_walk_request(request.request_id, request.kind,
                                                             **content))
+        self._unanswered[request.request_id] = (content, time.monotonic())
         future.add_done_callback(partial(self._on_planner_answer, request.request_id))
 
     def _on_planner_answer(self, request_id: int, future) -> None:
+        self._unanswered.pop(request_id, None)
         now = self._now()
         result = future.result() if future.done() and future.exception() is None else None
         if result is None or not result.accepted:
@@ -489,6 +494,14 @@ class StateMachineNode(Node):
                 request = self._requests.get(request_id)
                 if request is not None:  # else cancelled meanwhile
                     self._call_planner(request, **content)
+        for request_id, (content, sent) in list(self._unanswered.items()):
+            request = self._requests.get(request_id)
+            if request is None:  # expired or cancelled
+                del self._unanswered[request_id]
+            elif wall - sent >= PLANNER_RESEND and self._planner.service_is_ready():
+                self.get_logger().warn(f'no answer from plan_walk to request {request_id} in '
+                                       f'{PLANNER_RESEND} s: sent again')
+                self._call_planner(request, **content)
         timeout = self.get_parameter('cmd_vel_timeout').value
         if self._teleop.timed_out(now, wall, timeout, self._walking()):
             self.get_logger().info(f'no cmd_vel for {timeout} s: stopping')

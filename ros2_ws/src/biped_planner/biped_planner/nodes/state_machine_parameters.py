@@ -15,7 +15,7 @@ NODE_PARAMETERS = {
     'use_planner': (True, 'walks are planned by the footstep planner (plan_walk), '
                     'which a request waits for up to planner_timeout; false: START, '
                     'OMNI and cmd_vel walk in place and GOTO is refused', None),
-    'planner_timeout': (2.0, 'wall time within which plan_walk must answer (s)',
+    'planner_timeout': (10.0, 'wall time within which plan_walk must answer (s)',
                         (0.1, 60.0)),
     'reset_timeout': (5.0, 'wall time within which simulator/reset must answer (s)',
                       (0.1, 60.0)),
