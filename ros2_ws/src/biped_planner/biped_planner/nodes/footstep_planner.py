@@ -23,6 +23,7 @@ from biped_msgs.msg import FootstepPlan, StepAdjustment, WalkingState
 from biped_msgs.srv import PlanWalk
 from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from visualization_msgs.msg import MarkerArray
 
@@ -67,6 +68,8 @@ PLANNING_ERRORS = [
 PHASES = {int(phase) for phase in Phase}
 SUPPORTS = {WalkingState.SUPPORT_LEFT, WalkingState.SUPPORT_RIGHT, WalkingState.SUPPORT_DOUBLE}
 MAX_RESOLUTION = 100.0  # m: a map cell larger than this is no map of a walking robot
+ODOM_ONLY_AFTER = 1.0  # s of wall time after the first odom: no sole_poses publisher: odom
+ODOM_FALLBACK_AFTER = 5.0  # s: sole_poses announced but none arrived: plan from odom
 REPEAT_WINDOW = 15.0  # s of wall time: a request identical to the last one is its resending
 # The reference generator splices a new plan in at the next double support: from a double
 # support on, or this close before one (s), the next step is committed and a stop ends after it.
@@ -123,8 +126,13 @@ class FootstepPlannerNode(Node):
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
         self.create_subscription(StepAdjustment, 'step_adjustment', self._on_adjustment, 10)
         # plan_walk is offered once the robot's pose is known: a caller that finds the service
-        # (the state machine waits for it) is never refused for a start not yet received
+        # (the state machine waits for it) is never refused for a start not yet received. The
+        # pose is where the feet are (sole_poses); odom's pelvis, 1-2 cm off their middle, only
+        # without a controller, so that a plan does not depend on which came first
         self._service = None
+        self._odom_since = None  # wall time of the first odom
+        self._offer_timer = self.create_timer(0.1, self._offer_plan_walk,
+                                              clock=Clock(clock_type=ClockType.STEADY_TIME))
         self._last_served = None  # (request, response, wall time) of the last plan_walk call
         self.get_logger().info('footstep planner ready (plan_walk once odom or sole_poses '
                                'arrive)')
@@ -176,12 +184,25 @@ class FootstepPlannerNode(Node):
         except BipedPlannerError as error:
             self._reject('odom', error)
             return
+        if self._odom_since is None:
+            self._odom_since = time.monotonic()
         self._offer_plan_walk()
 
     def _offer_plan_walk(self) -> None:
-        if self._service is None:
-            self._service = self.create_service(PlanWalk, 'plan_walk', self._on_plan_walk)
-            self.get_logger().info('plan_walk served: the start pose is known')
+        """Offer plan_walk once the feet are known (sole_poses), or odom's pose without them:
+        no controller publishes sole_poses ODOM_ONLY_AFTER after odom came, or none arrived
+        in ODOM_FALLBACK_AFTER."""
+        if self._service is not None:
+            return
+        if not self._soles_seen:
+            waited = -1.0 if self._odom_since is None else time.monotonic() - self._odom_since
+            if not (waited >= ODOM_FALLBACK_AFTER or waited >= ODOM_ONLY_AFTER and
+                    self.count_publishers('sole_poses') == 0):
+                return
+        self._offer_timer.cancel()
+        self._service = self.create_service(PlanWalk, 'plan_walk', self._on_plan_walk)
+        self.get_logger().info('plan_walk served: the start pose is known (from ' +
+                               ('sole_poses)' if self._soles_seen else 'odom: no sole_poses)'))
 
     def _on_state(self, msg: WalkingState) -> None:
         if msg.phase not in PHASES or msg.support_foot not in SUPPORTS:
