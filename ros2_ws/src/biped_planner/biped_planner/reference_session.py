@@ -145,9 +145,6 @@ class ReferenceSession:
         if not output.applied:
             return None
         self._reference = output.reference
-        # a pending update was spliced into the reference before the adjustment: dropped, the
-        # planner republishes the adjusted plan with it
-        self._pending = None
         self._adjustments += 1
         swing = swing_step_at(before, t)
         planned_dcm = swing.reference_dcm(t)
@@ -177,7 +174,7 @@ class ReferenceSession:
         moment it can be spliced in (the double support before the first step it changes), not
         when it arrives: windows before that time show the walk as it was, so the references do not
         depend on when the update arrived. An update that arrives later (a user's command for
-        the next step) takes effect at once.
+        the next step), or any update while the step adjuster is on, takes effect at once.
 
         :return: what was done ('stored', 'built', 'extended', 'extended from t=...',
             'unchanged')
@@ -191,7 +188,10 @@ class ReferenceSession:
         if self._walk_start is None or plan_id != self._reference_plan_id:
             return 'stored'
         self._pending = None  # the newest plan holds what a pending one changed
-        effective = self._update_time(self._plan.footsteps)
+        # with the step adjuster on, at once: an adjustment replans the walk mid-step from the
+        # reference in effect, and a pending update would be lost with it
+        effective = None if self._adjuster is not None else \
+            self._update_time(self._plan.footsteps)
         if effective is not None and effective > t_now:
             try:
                 self._pending = (effective, self._spliced(self._plan.footsteps, timing,

@@ -174,3 +174,18 @@ def test_a_scheduled_walk_enters_the_window_at_its_notice_whenever_its_plan_came
     np.testing.assert_array_equal(before.hip, still.hip)
     at_notice = session.window(5.0 - WALK_NOTICE, 90, 0.02, standing)
     assert np.abs(at_notice.hip[-1] - still.hip[-1]).max() > 1e-3
+
+
+def test_with_the_step_adjuster_on_an_update_takes_effect_at_once():
+    """An adjustment replans the walk mid-step from the reference in effect: an update that
+    waited for its time would be lost with it, so with the adjuster on it goes in at once."""
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.step_adjuster import OnlineStepAdjuster
+    from biped_planner.step_timing import StepTiming
+    timing = StepTiming(0.4, 0.1)
+    session = ReferenceSession(ReferenceParams(), OnlineStepAdjuster())
+    session.set_plan(1, straight_footsteps(4, 0.1, 0.2), timing, 0.0)
+    session.start_walk(0.0)
+    assert session.set_plan(1, straight_footsteps(6, 0.1, 0.2), timing, 1.2) == 'extended'
+    assert len(session.reference.footsteps) == 9
