@@ -281,13 +281,28 @@ class GraphSession:
         ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and self.series.pelvis
                              and self.series.states and self.series.bounds
                              and (self.map is not None or not serving)
-                             and self.recording_odometry(), timeout)
+                             and self.recording_odometry() and self.planner_knows_the_feet(),
+                             timeout)
         if not ok:
             raise TimeoutError(f'graph not ready after {timeout} s (controller cycles: '
                                f'{len(self.series.solve_times)}, states: '
                                f'{len(self.series.states)}, references: '
                                f'{len(self.series.bounds)}, map: {self.map is not None}, '
-                               f'odometry recorded: {self.recording_odometry()})')
+                               f'odometry recorded: {self.recording_odometry()}, planner '
+                               f'has sole_poses: {self.planner_knows_the_feet()})')
+
+    def planner_knows_the_feet(self) -> bool:
+        """The planner plans from the controller's sole_poses, not from odom's pelvis (1-2 cm
+        off): it reads odom until they arrive, then drops that subscription. A command sent
+        before that would start from another place on a loaded machine."""
+        nodes = self.graph.options.nodes
+        if 'footstep_planner' not in nodes or 'mpc_controller' not in nodes:
+            return True
+
+        def readers(topic):
+            return {i.node_name for i in self.node.get_subscriptions_info_by_topic(topic)}
+        return 'footstep_planner' in readers('/sole_poses') and \
+            'footstep_planner' not in readers('/odom')
 
     def phase(self) -> Optional[int]:
         return self.series.states[-1][1] if self.series.states else None
