@@ -20,6 +20,17 @@ def test_domains_past_the_dds_limit_are_refused():
         summary.units_of(('lipm', 'three_mass'), 120)
 
 
+@pytest.mark.parametrize('domain', [-1, 224, 230])
+def test_a_scenario_on_domains_past_the_dds_limit_is_refused_before_it_starts(domain, capsys):
+    """A trial cycles through 10 domains from --domain-id: past 232 Fast DDS could not open
+    its ports, and the runs after the first failed one by one (a user's sweep on 230)."""
+    from biped_tools.scenarios.command import main
+    with pytest.raises(SystemExit) as exit_info:
+        main(['push', '--model', 'three_mass', '--domain-id', str(domain), '--no-bag'])
+    assert exit_info.value.code == 2
+    assert f'--domain-id {domain}' in capsys.readouterr().err
+
+
 def test_the_units_results_make_each_models_results(tmp_path, monkeypatch):
     def fake(unit, out, seeds, record, log):
         if unit.scenario == 'terrain':

@@ -159,7 +159,12 @@ def interrupt_on_sigterm() -> None:
 
 def main(argv=None) -> int:
     interrupt_on_sigterm()
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    last = args.domain_id + summary.UNIT_DOMAINS - 1
+    if args.scenario != 'summary' and not 0 <= args.domain_id <= last <= summary.MAX_DOMAIN_ID:
+        parser.error(f'--domain-id {args.domain_id}: the trials use domains {args.domain_id}..'
+                     f'{last}, which must lie in 0..{summary.MAX_DOMAIN_ID} (Fast DDS ports)')
     if args.scenario == 'summary':
         return run_summary(args)
     if args.scenario == 'video':
