@@ -17,7 +17,6 @@ from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
 from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams
-from biped_planner.reference_phases import PHASE_DOUBLE_SUPPORT, PHASE_FINAL_SETTLE
 from biped_planner.reference_window import joined_at, ReferenceWindow
 from biped_planner.standing_reference import standing_window
 from biped_planner.step_adjuster import OnlineStepAdjuster
@@ -48,9 +47,6 @@ def check_footsteps(footsteps: Sequence[Footstep], workspace: float, max_step: f
 
 
 WALK_NOTICE = 1.0  # s: a scheduled walk enters the references this long before its start
-# an update of the walk enters the references this many steps before the last double support
-# it could be spliced in (the planner extends a walk 3 steps ahead: one step to arrive in)
-UPDATE_NOTICE_STEPS = 2
 MAX_ESTIMATE_OFFSET = 0.5  # m: a COM estimate farther from the plan's is not the walking robot's
 
 
@@ -98,8 +94,6 @@ class ReferenceSession:
         self._reference_plan_id: Optional[int] = None
         self._walk_start: Optional[float] = None
         self._last_walked_plan_id: Optional[int] = None
-        # an update of the walked plan waiting for its effective time: (time, reference)
-        self._pending: Optional[Tuple[float, WalkingReference]] = None
 
     @property
     def reference(self) -> Optional[WalkingReference]:
@@ -164,20 +158,12 @@ class ReferenceSession:
         if self._reference is None or self._walk_start is None:
             raise ConfigError('no walk under way to adjust')
         self._reference = self._reference.adjust_step(t_now, landings, touchdown, hip, dcm)
-        self._pending = None
 
     def set_plan(self, plan_id: int, footsteps: Sequence[Footstep], timing: StepTiming,
                  t_now: float) -> str:
         """A footstep plan arrived.
 
-        An update of the walked plan takes effect UPDATE_NOTICE_STEPS steps before the last
-        moment it can be spliced in (the double support before the first step it changes), not
-        when it arrives: windows before that time show the walk as it was, so the references do not
-        depend on when the update arrived. An update that arrives later (a user's command for
-        the next step), or any update while the step adjuster is on, takes effect at once.
-
-        :return: what was done ('stored', 'built', 'extended', 'extended from t=...',
-            'unchanged')
+        :return: what was done ('stored', 'built', 'extended', 'unchanged')
         :raises ConfigError: when the plan cannot be used (malformed, or it changes steps that
             have already started); the current reference is kept
         """
@@ -185,39 +171,9 @@ class ReferenceSession:
         if self._walk_start is not None and self._reference_plan_id is None:
             self._build()
             return 'built'
-        if self._walk_start is None or plan_id != self._reference_plan_id:
-            return 'stored'
-        self._pending = None  # the newest plan holds what a pending one changed
-        # with the step adjuster on, at once: an adjustment replans the walk mid-step from the
-        # reference in effect, and a pending update would be lost with it
-        effective = None if self._adjuster is not None else \
-            self._update_time(self._plan.footsteps)
-        if effective is not None and effective > t_now:
-            try:
-                self._pending = (effective, self._spliced(self._plan.footsteps, timing,
-                                                          effective))
-                return f'extended from t={effective:.3f} s'
-            except ConfigError:
-                pass  # it cannot wait that long: at once, below
-        return self._splice(self._plan.footsteps, timing, t_now)
-
-    def _update_time(self, footsteps: Tuple[Footstep, ...]) -> Optional[float]:
-        """When an update to footsteps takes effect: at the double support UPDATE_NOTICE_STEPS
-        steps before the one that precedes the first step it changes (None: it changes
-        nothing)."""
-        first_change = _first_change(self._reference.footsteps, footsteps)
-        if first_change is None:
-            return None
-        # the double support before the swing to footsteps[i] has step_index i - 2
-        return next((phase.t_begin for phase in self._reference.phases
-                     if phase.kind in (PHASE_DOUBLE_SUPPORT, PHASE_FINAL_SETTLE)
-                     and phase.step_index >= first_change - 2 - UPDATE_NOTICE_STEPS), None)
-
-    def _apply_pending(self, t: float) -> None:
-        """The pending plan update becomes the walked reference once t reaches its time."""
-        if self._pending is not None and t >= self._pending[0]:
-            self._reference = self._pending[1]
-            self._pending = None
+        if self._walk_start is not None and plan_id == self._reference_plan_id:
+            return self._splice(self._plan.footsteps, timing, t_now)
+        return 'stored'
 
     def start_walk(self, walk_start: float) -> bool:
         """The state machine started a walk at walk_start (idempotent).
@@ -235,7 +191,6 @@ class ReferenceSession:
 
     def end_walk(self) -> None:
         """The robot stands again; the reference keeps holding its final pose."""
-        self._apply_pending(math.inf)
         self._walk_start = None
 
     def window(self, t: float, n: int, dt: float,
@@ -249,7 +204,6 @@ class ReferenceSession:
 
         :return: the window, or None when there is neither a reference nor standing feet
         """
-        self._apply_pending(t)
         if self._reference is not None:
             if standing_feet is not None and self._walk_start is not None and \
                     t < self._walk_start - WALK_NOTICE:
@@ -266,7 +220,6 @@ class ReferenceSession:
 
     def _build(self) -> None:
         plan = self._plan
-        self._pending = None
         self._reference = WalkingReference(plan.footsteps, plan.timing, self._params,
                                            t_start=self._walk_start)
         self._reference_plan_id = plan.plan_id
@@ -275,25 +228,13 @@ class ReferenceSession:
             self._adjuster.reset()
 
     def _splice(self, footsteps: Tuple[Footstep, ...], timing: StepTiming, t_now: float) -> str:
-        extended = self._spliced(footsteps, timing, t_now)
-        if extended is self._reference:
+        old = self._reference.footsteps
+        first_change = next((i for i, (a, b) in enumerate(zip(old, footsteps)) if a != b),
+                            min(len(old), len(footsteps)))
+        if first_change == len(old) == len(footsteps):
             return 'unchanged'
-        self._reference = extended
-        return 'extended'
-
-    def _spliced(self, footsteps: Tuple[Footstep, ...], timing: StepTiming,
-                 t_now: float) -> WalkingReference:
-        """The walked reference with footsteps spliced in at t_now (itself if unchanged)."""
-        first_change = _first_change(self._reference.footsteps, footsteps)
-        if first_change is None:
-            return self._reference
         if first_change < 2:
             raise ConfigError('a plan update may not move the initial feet')
-        return self._reference.extend(footsteps[first_change:], t_now, timing,
-                                      replace_from=first_change)
-
-
-def _first_change(old: Sequence[Footstep], new: Sequence[Footstep]) -> Optional[int]:
-    """Index of the first footstep new changes or adds, None when it is old."""
-    first = next((i for i, (a, b) in enumerate(zip(old, new)) if a != b), min(len(old), len(new)))
-    return None if first == len(old) == len(new) else first
+        self._reference = self._reference.extend(footsteps[first_change:], t_now, timing,
+                                                 replace_from=first_change)
+        return 'extended'

@@ -106,58 +106,6 @@ def _walking_session(t_start=0.0):
     return session
 
 
-def _assert_same_windows(a, b, times):
-    for t in times:
-        wa, wb = a.window(t, 90, 0.02, None), b.window(t, 90, 0.02, None)
-        np.testing.assert_array_equal(wa.hip, wb.hip)
-        np.testing.assert_array_equal(wa.zmp, wb.zmp)
-        np.testing.assert_array_equal(wa.left_foot, wb.left_foot)
-
-
-def test_an_update_of_the_walk_takes_effect_at_its_time_whenever_it_arrived():
-    """Two runs in which the planner's extension arrives at different times before its
-    effective time (the double support UPDATE_NOTICE_STEPS steps before the one that precedes
-    the step it adds) give the same windows: before that time the walk as it was, from it on
-    the walk spliced at that time."""
-    from biped_planner.reference_session import UPDATE_NOTICE_STEPS
-    from biped_planner.step_timing import StepTiming
-    longer, timing = straight_footsteps(6, 0.1, 0.2), StepTiming(0.4, 0.1)
-    early, late, unchanged, at_once = (_walking_session() for _ in range(4))
-    # footsteps[6] is new: step 4 lands it, after the double support of index 4 (2.9 s)
-    assert UPDATE_NOTICE_STEPS == 2
-    effective = next(p.t_begin for p in early.reference.phases
-                     if p.kind == 'double_support' and p.step_index == 2)
-    assert effective == pytest.approx(1.9)
-    said = f'extended from t={effective:.3f} s'
-    assert early.set_plan(1, longer, timing, effective - 0.6) == said
-    assert late.set_plan(1, longer, timing, effective - 0.02) == said
-    times = np.arange(effective - 0.6, effective + 1.5, 0.02)
-    # the early run's windows before its effective time are the old walk's
-    _assert_same_windows(early, unchanged, times[times < effective - 0.02])
-    _assert_same_windows(early, late, times[times >= effective - 0.02])
-    assert at_once.set_plan(1, longer, timing, effective) == 'extended'
-    _assert_same_windows(early, at_once, times[times >= effective])
-    old = unchanged.window(effective, 90, 0.02, None)
-    new = early.window(effective, 90, 0.02, None)
-    assert np.abs(old.hip - new.hip).max() > 1e-3  # the extension does change the window
-
-
-def test_an_update_later_than_its_time_takes_effect_at_once():
-    """A user's command that changes the next step arrives after the update's time: it is
-    spliced in at its arrival, as it always was."""
-    from biped_planner.step_timing import StepTiming
-    timing = StepTiming(0.4, 0.1)
-    session, at_once = _walking_session(), _walking_session()
-    steps = straight_footsteps(4, 0.1, 0.2)
-    moved = steps[:5] + [Footstep(steps[5].side, 0.45, -0.1, 0.0), steps[6]]
-    # footsteps[5] is landed by step 3, after the double support of index 3: its time is
-    # the double support of index 1 (1.4 s)
-    assert session.set_plan(1, moved, timing, 1.7) == 'extended'
-    expected = at_once.reference.extend(moved[5:], 1.7, timing, replace_from=5)
-    window = session.window(1.7, 90, 0.02, None)
-    np.testing.assert_array_equal(window.hip, expected.sample(1.7, 90, 0.02).hip)
-
-
 def test_a_scheduled_walk_enters_the_window_at_its_notice_whenever_its_plan_came():
     """Until WALK_NOTICE before the start the window is the standing one, although the
     horizon reaches the start: the walk enters the preview at a stated time, not when the
@@ -174,18 +122,3 @@ def test_a_scheduled_walk_enters_the_window_at_its_notice_whenever_its_plan_came
     np.testing.assert_array_equal(before.hip, still.hip)
     at_notice = session.window(5.0 - WALK_NOTICE, 90, 0.02, standing)
     assert np.abs(at_notice.hip[-1] - still.hip[-1]).max() > 1e-3
-
-
-def test_with_the_step_adjuster_on_an_update_takes_effect_at_once():
-    """An adjustment replans the walk mid-step from the reference in effect: an update that
-    waited for its time would be lost with it, so with the adjuster on it goes in at once."""
-    from biped_planner.reference_params import ReferenceParams
-    from biped_planner.reference_session import ReferenceSession
-    from biped_planner.step_adjuster import OnlineStepAdjuster
-    from biped_planner.step_timing import StepTiming
-    timing = StepTiming(0.4, 0.1)
-    session = ReferenceSession(ReferenceParams(), OnlineStepAdjuster())
-    session.set_plan(1, straight_footsteps(4, 0.1, 0.2), timing, 0.0)
-    session.start_walk(0.0)
-    assert session.set_plan(1, straight_footsteps(6, 0.1, 0.2), timing, 1.2) == 'extended'
-    assert len(session.reference.footsteps) == 9
