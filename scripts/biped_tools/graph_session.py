@@ -249,12 +249,15 @@ class GraphSession:
             self._spin_once(0.02)
         return predicate()
 
+    def subscriber_nodes(self, topic: str) -> set:
+        """Names of the nodes that subscribe to topic, as discovered so far."""
+        return {info.node_name for info in self.node.get_subscriptions_info_by_topic(topic)}
+
     def wait_for_nodes_on(self, topic: str, nodes, timeout: float = 15.0) -> None:
         """Wait until each named node subscribes to topic (counting subscribers is not enough:
         this session's own recorder subscribes too, and discovery takes up to seconds)."""
         def subscribed() -> bool:
-            names = {info.node_name for info in self.node.get_subscriptions_info_by_topic(topic)}
-            return set(nodes) <= names
+            return set(nodes) <= self.subscriber_nodes(topic)
         if not self.spin_until(subscribed, timeout):
             raise TimeoutError(f'{sorted(nodes)} not subscribed to {topic} after {timeout} s')
 
@@ -298,11 +301,8 @@ class GraphSession:
         nodes = self.graph.options.nodes
         if 'footstep_planner' not in nodes or 'mpc_controller' not in nodes:
             return True
-
-        def readers(topic):
-            return {i.node_name for i in self.node.get_subscriptions_info_by_topic(topic)}
-        return 'footstep_planner' in readers('/sole_poses') and \
-            'footstep_planner' not in readers('/odom')
+        return 'footstep_planner' in self.subscriber_nodes('/sole_poses') and \
+            'footstep_planner' not in self.subscriber_nodes('/odom')
 
     def phase(self) -> Optional[int]:
         return self.series.states[-1][1] if self.series.states else None

@@ -205,15 +205,12 @@ class ReferenceSession:
         :return: the window, or None when there is neither a reference nor standing feet
         """
         if self._reference is not None:
-            if standing_feet is not None and self._walk_start is not None and \
-                    t < self._walk_start - WALK_NOTICE:
-                return standing_window(*standing_feet, self._params, t, n, dt)
-            window = self._reference.sample(t, n, dt)
-            if standing_feet is not None and self._walk_start is not None and \
-                    t < self._walk_start:
-                window = joined_at(standing_window(*standing_feet, self._params, t, n, dt),
-                                   window, self._walk_start)
-            return window
+            if standing_feet is None or self._walk_start is None or t >= self._walk_start:
+                return self._reference.sample(t, n, dt)
+            standing = standing_window(*standing_feet, self._params, t, n, dt)
+            if t < self._walk_start - WALK_NOTICE:
+                return standing
+            return joined_at(standing, self._reference.sample(t, n, dt), self._walk_start)
         if standing_feet is None:
             return None
         return standing_window(*standing_feet, self._params, t, n, dt)

@@ -96,26 +96,19 @@ def test_an_estimate_far_from_the_plan_is_refused_not_answered():
     assert session.adjustments == 0
 
 
-def _walking_session(t_start=0.0):
-    from biped_planner.reference_params import ReferenceParams
-    from biped_planner.reference_session import ReferenceSession
-    from biped_planner.step_timing import StepTiming
-    session = ReferenceSession(ReferenceParams())
-    session.set_plan(1, straight_footsteps(4, 0.1, 0.2), StepTiming(0.4, 0.1), 0.0)
-    session.start_walk(t_start)
-    return session
-
-
 def test_a_scheduled_walk_enters_the_window_at_its_notice_whenever_its_plan_came():
     """Until WALK_NOTICE before the start the window is the standing one, although the
     horizon reaches the start: the walk enters the preview at a stated time, not when the
     plan or the walking state arrived."""
     from biped_planner.reference_params import ReferenceParams
-    from biped_planner.reference_session import WALK_NOTICE
+    from biped_planner.reference_session import ReferenceSession, WALK_NOTICE
     from biped_planner.standing_reference import standing_window
+    from biped_planner.step_timing import StepTiming
     steps = straight_footsteps(4, 0.1, 0.2)
     standing = (steps[1], steps[0])
-    session = _walking_session(t_start=5.0)
+    session = ReferenceSession(ReferenceParams())
+    session.set_plan(1, steps, StepTiming(0.4, 0.1), 0.0)
+    session.start_walk(5.0)
     before = session.window(5.0 - WALK_NOTICE - 0.02, 90, 0.02, standing)
     still = standing_window(*standing, ReferenceParams(), 5.0 - WALK_NOTICE - 0.02, 90, 0.02)
     assert before.t[-1] > 5.0

@@ -91,8 +91,9 @@ class StateMachineNode(Node):
         self._plan_id = 0     # the plan of the current or last walk (0: none)
         self._plan_step = 0   # the step being taken when the walk's plan last arrived
         self._requests = PlanRequests(self.get_parameter('planner_timeout').value)
-        self._unsent = {}     # request id -> content, until plan_walk is discovered
-        self._unanswered = {}  # request id -> (content, wall time sent), until answered
+        # request id -> (content, wall time sent or None until plan_walk is discovered), until
+        # answered
+        self._outgoing = {}
         sim_time = self.get_parameter('use_sim_time').value
         self._watch = InputWatch(STREAMS, (PLAN,), self.get_parameter('input_timeout').value,
                                  '/clock' if sim_time else None, ('odom',))
@@ -273,15 +274,15 @@ class StateMachineNode(Node):
     def _call_planner(self, request, **content) -> None:
         """Send now, or once the service is discovered (within planner_timeout)."""
         if not self._planner.service_is_ready():
-            self._unsent[request.request_id] = content
+            self._outgoing[request.request_id] = (content, None)
             return
         future = self._planner.call_async(plan_walk_request(request.request_id, request.kind,
                                                             **content))
-        self._unanswered[request.request_id] = (content, time.monotonic())
+        self._outgoing[request.request_id] = (content, time.monotonic())
         future.add_done_callback(partial(self._on_planner_answer, request.request_id))
 
     def _on_planner_answer(self, request_id: int, future) -> None:
-        self._unanswered.pop(request_id, None)
+        self._outgoing.pop(request_id, None)
         now = self._now()
         result = future.result() if future.done() and future.exception() is None else None
         if result is None or not result.accepted:
@@ -485,22 +486,18 @@ class StateMachineNode(Node):
         now, wall = self._now(), time.monotonic()
         self._requests.timeout = self.get_parameter('planner_timeout').value
         for request in self._requests.expired(wall):
-            self._unsent.pop(request.request_id, None)
+            self._outgoing.pop(request.request_id, None)
             self._planner_refused(request, None, 'no answer from plan_walk within '
                                   f'{self._requests.timeout} s', now)
-        if self._unsent and self._planner.service_is_ready():
-            for request_id, content in list(self._unsent.items()):
-                del self._unsent[request_id]
-                request = self._requests.get(request_id)
-                if request is not None:  # else cancelled meanwhile
-                    self._call_planner(request, **content)
-        for request_id, (content, sent) in list(self._unanswered.items()):
+        for request_id, (content, sent) in list(self._outgoing.items()):
             request = self._requests.get(request_id)
-            if request is None:  # expired or cancelled
-                del self._unanswered[request_id]
-            elif wall - sent >= PLANNER_RESEND and self._planner.service_is_ready():
-                self.get_logger().warn(f'no answer from plan_walk to request {request_id} in '
-                                       f'{PLANNER_RESEND} s: sent again')
+            if request is None:  # cancelled meanwhile
+                del self._outgoing[request_id]
+            elif (sent is None or wall - sent >= PLANNER_RESEND) and \
+                    self._planner.service_is_ready():
+                if sent is not None:
+                    self.get_logger().warn(f'no answer from plan_walk to request {request_id} '
+                                           f'in {PLANNER_RESEND} s: sent again')
                 self._call_planner(request, **content)
         timeout = self.get_parameter('cmd_vel_timeout').value
         if self._teleop.timed_out(now, wall, timeout, self._walking()):
