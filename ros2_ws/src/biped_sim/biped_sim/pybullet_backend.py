@@ -86,7 +86,8 @@ class PyBulletBackend(SimulatorBackend):
         self._robot = pybullet.loadURDF(description.urdf_path, [0.0, 0.0, 1.0],
                                         flags=pybullet.URDF_USE_INERTIA_FROM_FILE,
                                         physicsClientId=client)
-        self._index = index_robot(client, self._robot, description, config.foot_friction)
+        self._index = index_robot(client, self._robot, description, config.foot_friction,
+                                  config.sole_contact_stiffness, config.sole_contact_damping)
         self._sensing = PyBulletSensing(client, self._robot, self._index, config.gravity,
                                         config.contact_threshold)
         compensation = ContactGravityCompensation(

@@ -47,6 +47,13 @@ class PyBulletConfig:
                                      high=1.0)
     foot_friction: float = parameter(1.0, 'lateral friction coefficient of the feet and the '
                                      'ground (1)', low=0.0, low_open=True)
+    sole_contact_stiffness: float = parameter(
+        1e5, 'normal stiffness of each contact point of a sole: its rubber pad (N/m); 0 keeps '
+        "PyBullet's rigid contact. 1e5 sinks the standing robot's soles by about 0.8 mm",
+        low=0.0, high=1e9)
+    sole_contact_damping: float = parameter(
+        1500.0, 'normal damping of each contact point of a sole (N s/m), with the stiffness',
+        low=0.0, high=1e7)
     contact_threshold: float = parameter(15.0, 'normal ground force above which a foot is in '
                                          'contact (N)', low=0.0, low_open=True)
     solver_iterations: int = parameter(50, 'iterations of the PyBullet constraint solver',

@@ -70,13 +70,16 @@ def _is_descendant(link: int, ancestor: int, parents: list) -> bool:
 
 
 def index_robot(client: int, robot: int, description: RobotDescription,
-                foot_friction: float) -> RobotIndex:
+                foot_friction: float, sole_stiffness: float = 0.0,
+                sole_damping: float = 0.0) -> RobotIndex:
     """Index a loaded robot, enable its F/T sensors and set its link dynamics.
 
     :param client: PyBullet physics client id.
     :param robot: PyBullet body id of the robot.
     :param description: the robot.
     :param foot_friction: lateral friction given to the links of the feet.
+    :param sole_stiffness: normal stiffness of each contact point of the feet (N/m), 0: rigid
+    :param sole_damping: normal damping of each contact point of the feet (N s/m)
     :return: the index.
     :raises RobotModelError: if the description names what the URDF does not have.
     """
@@ -120,6 +123,11 @@ def index_robot(client: int, robot: int, description: RobotDescription,
         for k in foot:
             pybullet.changeDynamics(robot, int(k), lateralFriction=foot_friction,
                                     physicsClientId=client)
+            if sole_stiffness > 0.0:
+                # A rubber sole, not a rigid box: an edge under it presses into the pad instead
+                # of the foot rocking on the edge line (docs/simulator_notes.md).
+                pybullet.changeDynamics(robot, int(k), contactStiffness=sole_stiffness,
+                                        contactDamping=sole_damping, physicsClientId=client)
     return RobotIndex(
         joint_names=tuple(names[j] for j in actuated), actuated=actuated,
         effort_limit=np.array([effort[j] for j in actuated]), link_index=link_by_name,

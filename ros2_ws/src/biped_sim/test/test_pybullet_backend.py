@@ -141,6 +141,39 @@ def test_stands_five_seconds(backends, mode):
     assert np.linalg.norm(readings.base.position[:2] - start.base.position[:2]) < 0.01
 
 
+def _sole_contacts(sim):
+    """(penetration depth (m), normal force (N)) of every contact point of the robot's feet."""
+    index = sim._index
+    feet = {int(k) for foot in index.feet for k in foot}
+    return np.array([(-c[8], c[9]) for c in pybullet.getContactPoints(
+        bodyA=sim._robot, physicsClientId=sim._client) if c[3] in feet])
+
+
+@pytest.mark.parametrize('stiffness', [3e4, 1e5])
+def test_a_rubber_sole_sinks_as_its_springs_say(description, stiffness):
+    """Each sole contact point is a spring: depth = normal force / stiffness, and the points
+    carry the robot's weight; a rigid sole (stiffness 0) does not sink."""
+    for k in (stiffness, 0.0):
+        sim = PyBulletBackend(description, PyBulletConfig(leg_kp=2000.0,
+                                                          sole_contact_stiffness=k))
+        try:
+            sim.reset()
+            q = sim.description.nominal_leg_positions()
+            for _ in range(100):
+                sim.step(q)
+            contacts = _sole_contacts(sim)
+        finally:
+            sim.close()
+        depth, force = contacts[:, 0], contacts[:, 1]
+        assert force.sum() == pytest.approx(sim._index.total_mass * G, rel=0.05)
+        if k > 0.0:
+            loaded = force > 5.0
+            assert np.allclose(depth[loaded], force[loaded] / k, rtol=0.1, atol=2e-5)
+            assert depth.max() > 0.5 * force.sum() / (len(force) * k)
+        else:
+            assert depth.max() < 2e-4
+
+
 @pytest.mark.parametrize('mode', MODES)
 def test_weight_shift_lift_foot_and_put_it_down(backends, description, mode):
     """The proof that the controlled robot can step: COM over the left foot, right foot up
@@ -319,6 +352,8 @@ def test_closed_backend_refuses_work(description):
     ({'gravity_compensation_period': 0}, 'gravity_compensation_period'),
     ({'foot_friction': math.nan}, 'foot_friction'),
     ({'contact_threshold': 0.0}, 'contact_threshold'),
+    ({'sole_contact_stiffness': -1.0}, 'sole_contact_stiffness'),
+    ({'sole_contact_damping': math.inf}, 'sole_contact_damping'),
 ])
 def test_bad_config_raises(kwargs, field):
     with pytest.raises(ConfigError, match=field):

@@ -155,7 +155,11 @@ class SimulatorNode(Node):
                                     control_substeps=substeps,
                                     control_mode=self.get_parameter('control_mode').value,
                                     leg_kp=float(self.get_parameter('leg_kp').value),
-                                    leg_kd=float(self.get_parameter('leg_kd').value))
+                                    leg_kd=float(self.get_parameter('leg_kd').value),
+                                    sole_contact_stiffness=float(
+                                        self.get_parameter('sole_contact_stiffness').value),
+                                    sole_contact_damping=float(
+                                        self.get_parameter('sole_contact_damping').value))
             return PyBulletBackend(robot, config)
         if name == 'model':
             from biped_sim.model_plant_backend import ModelPlantBackend, ModelPlantBackendParams

@@ -44,6 +44,8 @@ SIMULATOR_PARAMETERS = {
     'physics_step': from_library(PyBulletConfig, 'time_step'),
     'leg_kp': from_library(PyBulletConfig, 'leg_kp', 2000.0),
     'leg_kd': from_library(PyBulletConfig, 'leg_kd'),
+    'sole_contact_stiffness': from_library(PyBulletConfig, 'sole_contact_stiffness'),
+    'sole_contact_damping': from_library(PyBulletConfig, 'sole_contact_damping'),
     'setpoint_parts': from_library(ClosedLoopParams, 'setpoint_interpolation', 4,
                                    'parts of a period with interpolated setpoints (servo ramp)'),
     'lockstep': (True, 'physics waits for the command answering the last sensor time', None),
