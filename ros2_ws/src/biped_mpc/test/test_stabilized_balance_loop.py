@@ -87,10 +87,11 @@ def test_stabilized_targets_tilt_a_sole_whose_cop_sits_off_its_centre(loop):
         result = loop.update(k * DT, DT, targets, sensed, soles, np.array([0.0, 0.0, 0.54]),
                              reference, np.array([0.0, 0.0, 0.497]), np.zeros(2))
     # Pressure ahead of the desired CoP: the pitch offset is negative (toes up, heel down),
-    # which moves the CoP back; the rate limit caps it at 0.2 rad/s.
+    # which moves the CoP back; the rate limit caps its speed.
+    rate_limit = loop.params.stabilizer.damping.rate_limit
     pitch = result.targets.foot_tilts[:, 1]
     assert np.all(pitch < 0.0)
-    assert np.all(pitch >= -0.2 * 10 * DT - 1e-12)
+    assert np.all(pitch >= -rate_limit * 10 * DT - 1e-12)
     np.testing.assert_allclose(result.targets.foot_tilts[:, 0], 0.0, atol=1e-6)
 
 
