@@ -122,7 +122,7 @@ class GraphSession:
         import rclpy
         from biped_planner.node_support.node_runner import make_executor
         self._context = rclpy.Context()
-        rclpy.init(context=self._context, domain_id=self.domain_id)
+        rclpy.init(args=[], context=self._context, domain_id=self.domain_id)
         self.node = rclpy.create_node('graph_session', context=self._context, parameter_overrides=[
             rclpy.parameter.Parameter('use_sim_time', value=True)])
         self.executor = make_executor(context=self._context)

@@ -228,7 +228,7 @@ class NodeGraph:
         from rclpy.context import Context
         context = Context()
         domain = self.options.domain_id
-        rclpy.init(context=context, **({} if domain is None else {'domain_id': domain}))
+        rclpy.init(args=[], context=context, **({} if domain is None else {'domain_id': domain}))
         watcher = rclpy.create_node('bringup_watcher', context=context)
         try:
             deadline = time.monotonic() + timeout

@@ -22,6 +22,7 @@ from pathlib import Path
 import signal
 import time
 
+from biped_tools.bringup import parse_overrides
 from biped_tools.paths import OUTPUT
 from biped_tools.scenarios import (disk, omni, push, push_directions, start_goal, summary,
                                    terrain)
@@ -39,6 +40,9 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument('--domain-id', type=int, default=50,
                         help='first ROS domain; trials use the next ones (up to +9)')
     common.add_argument('--no-bag', action='store_true', help='do not record bags')
+    common.add_argument('-p', '--param', action='append', default=[],
+                        metavar='NODE:NAME:=VALUE', help='override one parameter of a node of '
+                        'every trial, as in bringup.py (e.g. mpc_controller:balance:=stabilizer)')
     sub = parser.add_subparsers(dest='scenario', required=True)
     p = sub.add_parser('disk', parents=[common], help='walk around a disk')
     p.add_argument('--step-length', type=float, default=0.15)
@@ -88,7 +92,8 @@ def log(line: str) -> None:
 
 
 def trials_for(args, model: str) -> TrialFactory:
-    return TrialFactory(args.out, model, args.domain_id, record=not args.no_bag, log=log)
+    return TrialFactory(args.out, model, args.domain_id, record=not args.no_bag, log=log,
+                        overrides=parse_overrides(args.param))
 
 
 def run_scenario(args) -> int:

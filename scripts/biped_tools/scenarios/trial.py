@@ -57,15 +57,19 @@ class TrialFactory:
     (a fresh domain per graph keeps the previous graph's discovery data out of the next)."""
 
     def __init__(self, out: Path, model: str, domain_base: int, record: bool = True,
-                 log: Callable[[str], None] = print) -> None:
+                 log: Callable[[str], None] = print,
+                 overrides: Optional[Dict[str, List[str]]] = None) -> None:
         self.out, self.model, self.domain_base = out, model, domain_base
         self.record, self.log = record, log
+        self.overrides = {node: list(values) for node, values in (overrides or {}).items()}
         self.count = 0
 
     def __call__(self, scenario: str, setting: str) -> Trial:
         self.count += 1
         return Trial(scenario, self.model, setting, self.out,
-                     self.domain_base + self.count % 10, record=self.record, log=self.log)
+                     self.domain_base + self.count % 10, record=self.record,
+                     overrides={node: list(values) for node, values in self.overrides.items()},
+                     log=self.log)
 
 
 def graph_overrides(model: str, start=(0.0, 0.0, 0.0), timing: Optional[tuple] = None,
