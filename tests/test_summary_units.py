@@ -46,3 +46,25 @@ def test_the_units_results_make_each_models_results(tmp_path, monkeypatch):
     assert len(terrain['runs']) == 2 * len(TILE_AREAS_CM2)
     assert terrain['success_fraction'] == pytest.approx(1 / len(TILE_AREAS_CM2))
     assert (tmp_path / 'lipm_results.json').exists()
+
+
+def test_parameters_given_with_p_reach_every_trial_of_a_scenario(tmp_path):
+    from biped_tools.scenarios.command import build_parser, trials_for
+    args = build_parser().parse_args([
+        'terrain', '--out', str(tmp_path), '-p', 'mpc_controller:balance:=stabilizer',
+        '-p', 'simulator:sole_contact_stiffness:=0.0', '-p', 'mpc_controller:tilt_gain:=0.1'])
+    trials = trials_for(args, 'three_mass')
+    first, second = trials('terrain', 'a'), trials('terrain', 'b')
+    for trial in (first, second):
+        assert trial.overrides == {'mpc_controller': ['balance:=stabilizer', 'tilt_gain:=0.1'],
+                                   'simulator': ['sole_contact_stiffness:=0.0']}
+    first.overrides['simulator'].append('gui:=true')  # a trial's overrides are its own
+    assert second.overrides['simulator'] == ['sole_contact_stiffness:=0.0']
+
+
+def test_a_malformed_p_is_refused_before_any_trial_starts(capsys):
+    from biped_tools.scenarios.command import main
+    with pytest.raises(SystemExit) as exit_info:
+        main(['terrain', '--no-bag', '-p', 'balance=stabilizer'])
+    assert exit_info.value.code == 2
+    assert 'expected node:param:=value' in capsys.readouterr().err

@@ -170,6 +170,10 @@ def main(argv=None) -> int:
     if args.scenario != 'summary' and not 0 <= args.domain_id <= last <= summary.MAX_DOMAIN_ID:
         parser.error(f'--domain-id {args.domain_id}: the trials use domains {args.domain_id}..'
                      f'{last}, which must lie in 0..{summary.MAX_DOMAIN_ID} (Fast DDS ports)')
+    try:
+        parse_overrides(getattr(args, 'param', []))
+    except argparse.ArgumentTypeError as error:
+        parser.error(str(error))
     if args.scenario == 'summary':
         return run_summary(args)
     if args.scenario == 'video':
