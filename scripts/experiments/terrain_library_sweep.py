@@ -10,6 +10,7 @@ Every trial gets a fresh simulator: the tile runs depend on what the simulator r
     .venv/bin/python scripts/experiments/terrain_library_sweep.py [--steps 24] [--edge 30]
         [--areas 100 400 625] [--seeds 1 2 3] [--balance stabilizer open_loop]
         [--no-flat] [--no-edge] [--heights 0.025 0.05] [--set ankle_damping_gain=0.02 ...]
+        [--sim sole_contact_stiffness=1e5 ...]
 """
 import argparse
 import dataclasses
@@ -48,8 +49,12 @@ def main() -> None:
     parser.add_argument('--no-edge', action='store_true', help='skip standing on the edge')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
+    parser.add_argument('--sim', nargs='*', default=[], metavar='FIELD=VALUE',
+                        help='PyBulletConfig fields to override (e.g. the rubber soles, '
+                        'sole_contact_stiffness=1e5)')
     args = parser.parse_args()
     overrides = dict(_parse_override(text) for text in args.set)
+    sim_overrides = dict(_parse_override(text) for text in args.sim)
     robot = coman_like()
     trials = [] if args.no_flat else [('flat', None, args.steps)]
     trials += [] if args.no_edge else [('edge 25 mm', edge_terrain(0.025), 0)]
@@ -62,7 +67,8 @@ def main() -> None:
     for name, terrain, steps in trials:
         for model in args.models:
             for balance in args.balance:
-                backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
+                backend = PyBulletBackend(robot, PyBulletConfig(
+                    **{'leg_kp': 2000.0, **sim_overrides}))
                 controller = WalkingController(dataclasses.replace(WalkingControllerParams(
                     robot=robot.controller_model, model=model, balance=balance,
                     swing_target='planned'), **overrides))

@@ -48,9 +48,10 @@ class PyBulletConfig:
     foot_friction: float = parameter(1.0, 'lateral friction coefficient of the feet and the '
                                      'ground (1)', low=0.0, low_open=True)
     sole_contact_stiffness: float = parameter(
-        1e5, 'normal stiffness of each contact point of a sole: its rubber pad (N/m); 0 keeps '
-        "PyBullet's rigid contact. 1e5 sinks the standing robot's soles by about 0.8 mm",
-        low=0.0, high=1e9)
+        0.0, 'normal stiffness of each contact point of a sole, a rubber pad (N/m); 0 keeps '
+        "PyBullet's rigid contact. 1e5 sinks the standing robot by about 0.8 mm and walks the "
+        "paper's tiles further, but costs the open-loop flat-ground figures "
+        '(docs/simulator_notes.md)', low=0.0, high=1e9)
     sole_contact_damping: float = parameter(
         1500.0, 'normal damping of each contact point of a sole (N s/m), with the stiffness',
         low=0.0, high=1e7)
