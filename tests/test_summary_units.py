@@ -62,6 +62,14 @@ def test_parameters_given_with_p_reach_every_trial_of_a_scenario(tmp_path):
     assert second.overrides['simulator'] == ['sole_contact_stiffness:=0.0']
 
 
+def test_the_summary_refuses_p_rather_than_ignoring_it(capsys):
+    from biped_tools.scenarios.command import main
+    with pytest.raises(SystemExit) as exit_info:
+        main(['summary', '--no-bag', '-p', 'mpc_controller:balance:=stabilizer'])
+    assert exit_info.value.code == 2
+    assert 'summary does not take -p' in capsys.readouterr().err
+
+
 def test_a_malformed_p_is_refused_before_any_trial_starts(capsys):
     from biped_tools.scenarios.command import main
     with pytest.raises(SystemExit) as exit_info:

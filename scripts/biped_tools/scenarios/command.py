@@ -174,6 +174,9 @@ def main(argv=None) -> int:
         parse_overrides(getattr(args, 'param', []))
     except argparse.ArgumentTypeError as error:
         parser.error(str(error))
+    if args.scenario == 'summary' and args.param:
+        parser.error('summary does not take -p: its table is measured with the nodes\' '
+                     'configured parameters (run a scenario with -p instead)')
     if args.scenario == 'summary':
         return run_summary(args)
     if args.scenario == 'video':
