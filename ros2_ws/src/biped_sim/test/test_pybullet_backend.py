@@ -143,10 +143,8 @@ def test_stands_five_seconds(backends, mode):
 
 def _sole_contacts(sim):
     """(penetration depth (m), normal force (N)) of every contact point of the robot's feet."""
-    index = sim._index
-    feet = {int(k) for foot in index.feet for k in foot}
     return np.array([(-c[8], c[9]) for c in pybullet.getContactPoints(
-        bodyA=sim._robot, physicsClientId=sim._client) if c[3] in feet])
+        bodyA=sim._robot, physicsClientId=sim._client) if c[3] in sim._index.foot_side])
 
 
 @pytest.mark.parametrize('stiffness', [3e4, 1e5])
