@@ -272,6 +272,26 @@ def test_diagnostics_count_the_periods_and_the_late_ones_against_the_deadline(wa
     assert min(latencies) <= last.latency_p50 <= max(latencies)
 
 
+def test_a_new_epoch_seen_while_stepping_does_not_restart_the_controller(walk_loop):
+    """A walking_state with another epoch in a double support (a stray or fuzzed message) is
+    not a reset: the robot standing still is not enough; the same epoch in Idle is one."""
+    from biped_msgs.msg import WalkingState
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    states = g['client'].create_publisher(WalkingState, 'walking_state', 10)
+    assert wait_for_subscribers(g['executor'], states, timeout=15)
+    states.publish(WalkingState(epoch=0))
+    play_references(g, window_of, clock_time(g) + 0.3)
+    states.publish(WalkingState(epoch=1, phase=WalkingState.DOUBLE_SUPPORT))
+    play_references(g, window_of, clock_time(g) + 1.0)
+    assert g['rosout'].has('epoch 1 not used yet')
+    assert not g['rosout'].has('restarted from the sensors')
+    states.publish(WalkingState(epoch=1))
+    spin_sim_time(g, 1.0)
+    assert g['rosout'].has('epoch 1', 'restarted from the sensors')
+
+
 def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk_loop):
     from biped_msgs.msg import WalkingState
     from biped_msgs.srv import Push

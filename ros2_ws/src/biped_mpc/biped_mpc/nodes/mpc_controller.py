@@ -162,6 +162,7 @@ class MpcControllerNode(Node):
         self._supervisor = ReferenceSupervisor(hold_params, self._dt, self._horizon)
         self._epoch = None  # walking_state.epoch applied (None: none seen yet)
         self._epoch_pending = None
+        self._stepping = False  # the newest valid walking_state is in a single or double support
         # the pelvis from odom or from the IMU: the other one is not read, so not subscribed
         unread = 'imu' if self._params.pelvis_source == PELVIS_GROUND_TRUTH else 'odom'
         self._sensor_topics = tuple(topic for topic in SENSOR_TYPES if topic != unread)
@@ -466,6 +467,8 @@ class MpcControllerNode(Node):
             if why is not None:
                 self._reject('walking_state', why)
                 continue
+            self._stepping = msg.phase in (WalkingState.SINGLE_SUPPORT,
+                                           WalkingState.DOUBLE_SUPPORT)
             if self._epoch is None:
                 self._epoch = msg.epoch  # the epoch the controller started in
             elif msg.epoch == self._epoch:
@@ -478,9 +481,13 @@ class MpcControllerNode(Node):
 
     def _check_epoch(self, t: float, feedback: ControllerFeedback) -> None:
         """After a reset of the robot (a new epoch), restart from the sensors once it stands
-        still on both feet: a fallen robot's data would be a wrong start."""
+        still on both feet: a fallen robot's data would be a wrong start. Never while the state
+        machine steps: walking in place, a double support is as slow as standing, and a stray
+        walking_state with another epoch made the controller restart mid-walk and the robot
+        fall (bad-input suite, 'epoch + 1 while walking')."""
         self._take_epoch()
-        if self._epoch_pending is None or not feedback.standing_still(STILL_TILT, STILL_SPEED):
+        if self._epoch_pending is None or self._stepping or \
+                not feedback.standing_still(STILL_TILT, STILL_SPEED):
             return
         epoch, self._epoch_pending = self._epoch_pending, None
         self._epoch = epoch
