@@ -103,6 +103,36 @@ def test_a_new_epoch_drops_the_walk_and_stands_where_the_controller_puts_the_fee
     assert newest_window(g)[1] == 0
 
 
+def test_the_planners_extension_applies_at_its_step_stamp_plus_the_delay(gen):
+    """request_id 0 (the planner's own extension), stamped with the start of the step that
+    asked for it: spliced in at stamp + extension_delay, not on arrival; a user's change
+    (another request_id) at once."""
+    from builtin_interfaces.msg import Time
+    g = gen
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    steps = straight_footsteps(10, 0.1, 0.14)
+    g['plan'].publish(plan_msg(1, steps[:8]))
+    state(g, WalkingState.INITIALIZE, walk_start=g['clock'].t)
+    g['clock'].advance(1.0)
+    step_start = round(g['clock'].t - 0.3, 2)
+    extension = plan_msg(1, steps[:9])
+    extension.header.stamp = Time(sec=int(step_start),
+                                  nanosec=round((step_start % 1) * 1e9))
+    g['plan'].publish(extension)
+    g['clock'].advance(0.02)
+    due = step_start + 0.35
+    assert g['rosout'].has('9 footsteps', f'extends the walk at t={due:.3f}')
+    assert not g['rosout'].has('plan 1: extended')
+    g['clock'].advance(0.2)
+    assert g['rosout'].has('plan 1: extended at')
+    user = plan_msg(1, steps)
+    user.request_id = 7
+    g['plan'].publish(user)
+    g['clock'].advance(0.05)
+    assert g['rosout'].has(f'{len(steps)} footsteps): extended')
+
+
 @pytest.mark.parametrize('change, words', [
     (lambda steps: steps[3].__class__(steps[3].side, 1e30, steps[3].y), 'workspace'),
     (lambda steps: steps[3].__class__(steps[3].side, steps[3].x + 5.0, steps[3].y),

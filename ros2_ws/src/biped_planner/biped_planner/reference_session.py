@@ -4,8 +4,10 @@ The walking state machine owns the timeline: a walk starts (Initialize) at walk_
 reference is the WalkingReference of the walk's footstep plan with t_start = walk_start, so the
 reference's initial shift, single and double supports line up with the state machine's phases
 (given the same durations). A plan that changes while walking (teleop extension, a stop's closing
-step) is spliced in with WalkingReference.extend from its first changed footstep. Between walks
-the last reference holds its final standing pose. With an online step adjuster, the step under
+step) is spliced in with WalkingReference.extend from its first changed footstep. An extension
+that names when it applies (the planner's own, from the phase that asked for it) waits for that
+time, so the splice does not depend on when the message arrived. Between walks the last
+reference holds its final standing pose. With an online step adjuster, the step under
 way moves (location and touchdown) when the measured DCM asks for it: the session's reference is
 then the adjusted one, and the adjustment is returned for the rest of the graph to follow.
 """
@@ -79,6 +81,14 @@ class _Plan:
     timing: StepTiming
 
 
+@dataclass(frozen=True)
+class _QueuedExtension:
+    plan_id: int
+    footsteps: Tuple[Footstep, ...]
+    timing: StepTiming
+    apply_at: float
+
+
 class ReferenceSession:
     """Builds and updates the reference of the current walk."""
 
@@ -94,6 +104,7 @@ class ReferenceSession:
         self._reference_plan_id: Optional[int] = None
         self._walk_start: Optional[float] = None
         self._last_walked_plan_id: Optional[int] = None
+        self._queued: Optional[_QueuedExtension] = None
 
     @property
     def reference(self) -> Optional[WalkingReference]:
@@ -160,20 +171,45 @@ class ReferenceSession:
         self._reference = self._reference.adjust_step(t_now, landings, touchdown, hip, dcm)
 
     def set_plan(self, plan_id: int, footsteps: Sequence[Footstep], timing: StepTiming,
-                 t_now: float) -> str:
+                 t_now: float, apply_at: Optional[float] = None) -> str:
         """A footstep plan arrived.
 
-        :return: what was done ('stored', 'built', 'extended', 'unchanged')
+        :param t_now: the latest time whose reference may already be out (s)
+        :param apply_at: when an extension of the walked plan (its footsteps, then more)
+            applies (s): the splice waits for the first window at or after it (apply_due)
+            instead of t_now, so the reference is the same whenever the plan arrived before
+            then. None, a time not after t_now, or another change: applied at t_now
+        :return: what was done ('stored', 'built', 'extended', 'unchanged', 'queued')
         :raises ConfigError: when the plan cannot be used (malformed, or it changes steps that
             have already started); the current reference is kept
         """
         self._plan = _Plan(plan_id, tuple(footsteps), timing)
+        self._queued = None  # a plan is the whole list: a newer one replaces a waiting one
         if self._walk_start is not None and self._reference_plan_id is None:
             self._build()
             return 'built'
         if self._walk_start is not None and plan_id == self._reference_plan_id:
+            if apply_at is not None and apply_at > t_now and \
+                    appends_to(self._reference.footsteps, self._plan.footsteps):
+                self._queued = _QueuedExtension(plan_id, self._plan.footsteps, timing,
+                                                float(apply_at))
+                return 'queued'
             return self._splice(self._plan.footsteps, timing, t_now)
         return 'stored'
+
+    def apply_due(self, t: float) -> Optional[str]:
+        """Splice a waiting plan change whose time came (before the window of t is taken).
+
+        :return: what was done ('extended', 'unchanged'), None when nothing was due
+        :raises ConfigError: when the change no longer fits the reference (dropped)
+        """
+        queued = self._queued
+        if queued is None or t < queued.apply_at:
+            return None
+        self._queued = None
+        if self._walk_start is None or queued.plan_id != self._reference_plan_id:
+            return None
+        return self._splice(queued.footsteps, queued.timing, queued.apply_at)
 
     def start_walk(self, walk_start: float) -> bool:
         """The state machine started a walk at walk_start (idempotent).
@@ -184,6 +220,7 @@ class ReferenceSession:
             return self._reference_plan_id is not None
         self._walk_start = walk_start
         self._reference_plan_id = None
+        self._queued = None
         if self._plan is not None and self._plan.plan_id != self._last_walked_plan_id:
             self._build()
             return True
@@ -192,6 +229,7 @@ class ReferenceSession:
     def end_walk(self) -> None:
         """The robot stands again; the reference keeps holding its final pose."""
         self._walk_start = None
+        self._queued = None
 
     def window(self, t: float, n: int, dt: float,
                standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:
@@ -235,3 +273,9 @@ class ReferenceSession:
         self._reference = self._reference.extend(footsteps[first_change:], t_now, timing,
                                                  replace_from=first_change)
         return 'extended'
+
+
+
+def appends_to(footsteps: Sequence[Footstep], longer: Sequence[Footstep]) -> bool:
+    """:return: whether longer is footsteps with more steps after them"""
+    return len(longer) > len(footsteps) and tuple(longer[:len(footsteps)]) == tuple(footsteps)

@@ -1,4 +1,6 @@
 """Tests of the plans the reference session accepts."""
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -115,3 +117,72 @@ def test_a_scheduled_walk_enters_the_window_at_its_notice_whenever_its_plan_came
     np.testing.assert_array_equal(before.hip, still.hip)
     at_notice = session.window(5.0 - WALK_NOTICE, 90, 0.02, standing)
     assert np.abs(at_notice.hip[-1] - still.hip[-1]).max() > 1e-3
+
+
+def _walk_with_extension(arrival: float, apply_at, steps_now: int = 6, more: int = 3):
+    """A walk of straight steps started at 0, then the same plan with `more` steps, arriving at
+    `arrival`; windows of 1.8 s sampled every 20 ms from 0 to 6 s."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.step_timing import StepTiming
+    longer = straight_footsteps(steps_now + more, 0.1, 0.2)
+    timing = StepTiming(0.4, 0.2)
+    session = ReferenceSession(ReferenceParams())
+    session.set_plan(1, longer[:steps_now + 2], timing, 0.0)
+    assert session.start_walk(0.0)
+    windows, done = {}, []
+    for k in range(301):
+        t = round(0.02 * k, 2)
+        if abs(t - arrival) < 1e-9:
+            done.append(session.set_plan(1, longer, timing, t, apply_at))
+        done.append(session.apply_due(t))
+        windows[t] = session.window(t, 90, 0.02, None)
+    return windows, [d for d in done if d is not None]
+
+
+def test_an_extension_applies_at_its_stated_time_whenever_it_arrived_before_it():
+    """Arriving at 1.0 s or 2.0 s, an extension due at 2.3 s gives the same windows at every
+    time: those before 2.3 s are the unextended walk's, the later ones the extended walk's."""
+    early, done_early = _walk_with_extension(1.0, 2.3)
+    late, done_late = _walk_with_extension(2.0, 2.3)
+    plain, _ = _walk_with_extension(99.0, None)
+    assert done_early == done_late == ['queued', 'extended']
+    for t in early:
+        np.testing.assert_array_equal(early[t].hip, late[t].hip)
+        np.testing.assert_array_equal(early[t].zmp_min, late[t].zmp_min)
+        if t < 2.3:
+            np.testing.assert_array_equal(early[t].hip, plain[t].hip)
+    assert not np.array_equal(early[2.32].hip, plain[2.32].hip)  # the walk goes on
+
+
+def test_an_extension_that_comes_after_its_time_applies_on_arrival():
+    """Without a stated time (or past it) the splice is at the arrival: the windows change
+    from then on, and which steps it replans depends on when that was."""
+    stated_late, done = _walk_with_extension(2.5, 2.3)
+    on_arrival, done_plain = _walk_with_extension(2.5, None)
+    assert done == done_plain == ['extended']
+    for t in stated_late:
+        np.testing.assert_array_equal(stated_late[t].hip, on_arrival[t].hip)
+
+
+def test_a_newer_plan_replaces_a_waiting_extension():
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.step_timing import StepTiming
+    steps = straight_footsteps(9, 0.1, 0.2)
+    timing = StepTiming(0.4, 0.2)
+    session = ReferenceSession(ReferenceParams())
+    session.set_plan(1, steps[:8], timing, 0.0)
+    assert session.start_walk(0.0)
+    assert session.set_plan(1, steps[:10], timing, 1.0, apply_at=2.3) == 'queued'
+    assert session.set_plan(1, steps, timing, 1.2) == 'extended'  # a user's change: at once
+    assert session.apply_due(2.4) is None
+    assert len(session.reference.footsteps) == len(steps)
+    # a change that is not an append (a later landing moved) is never held back
+    moved = list(steps)
+    moved[-1] = dataclasses.replace(steps[-1], x=steps[-1].x - 0.05)
+    assert session.set_plan(1, moved, timing, 1.3, apply_at=2.3) == 'extended'
+    assert session.reference.footsteps[-1] == moved[-1]
+    assert session.set_plan(2, steps[:8], timing, 1.4, apply_at=2.3) == 'stored'

@@ -4,7 +4,9 @@ The state machine is the one entry point of user intent (walk_command, goal_pose
 asks this node for plans over the service plan_walk (biped_msgs/PlanWalk: request id, kind,
 command, goal or velocity -> accepted, plan_id, error code), the way nav2's navigator calls its
 planner server. Every plan published answers a request: FootstepPlan.request_id is that
-request's id, or 0 for this node's own extension of a continuous (teleop) plan.
+request's id, or 0 for this node's own extension of a continuous (teleop) plan; an extension
+is stamped with the start of the walking_state phase that asked for it (the reference generator
+times its splice from that).
 
 Service: plan_walk (biped_msgs/PlanWalk), offered once the start pose is known (odom or
 sole_poses).
@@ -25,6 +27,7 @@ from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.time import Time
 from visualization_msgs.msg import MarkerArray
 
 from biped_planner.astar import AStarPlanner
@@ -38,6 +41,7 @@ from biped_planner.node_support.map_messages import grid_from_msg
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED, LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
+from biped_planner.node_support.stamps import seconds_of
 from biped_planner.nodes.conversions import (body_between, checked_pose2d, failed_plan_msg,
                                              feet_from_sole_poses, footstep_markers,
                                              footstep_plan_msg, footsteps_from_msgs,
@@ -215,8 +219,15 @@ class FootstepPlannerNode(Node):
                 previous.phase in WALKING_PHASES:
             self._session.walk_finished()
         elif msg.phase in (WalkingState.SINGLE_SUPPORT, WalkingState.DOUBLE_SUPPORT):
+            # stamped with the start of the phase that asked for it, not with when this
+            # callback ran: the reference generator times the extension from it
+            phase_start = seconds_of(msg.header.stamp) - msg.time_in_phase
+            stamp = None  # an implausible state's own timing: now
+            if 0.0 <= msg.time_in_phase <= msg.phase_duration + 1.0 and \
+                    0.0 <= phase_start <= self.get_clock().now().nanoseconds * 1e-9 + 1.0:
+                stamp = Time(nanoseconds=round(phase_start * 1e9)).to_msg()
             try:
-                self._publish(self._session.on_step(msg.step_index))
+                self._publish(self._session.on_step(msg.step_index), stamp=stamp)
             except BipedPlannerError as error:
                 self._reject('walking_state', error)
 
@@ -342,10 +353,10 @@ class FootstepPlannerNode(Node):
             return state.step_index + 1
         return state.step_index
 
-    def _publish(self, update, request_id: int = 0) -> None:
+    def _publish(self, update, request_id: int = 0, stamp=None) -> None:
         if update is None:
             return
-        stamp = self.get_clock().now().to_msg()
+        stamp = stamp or self.get_clock().now().to_msg()
         self._plan_pub.publish(footstep_plan_msg(
             update, self._timing.single_support, self._timing.double_support, self._frame,
             stamp, request_id))

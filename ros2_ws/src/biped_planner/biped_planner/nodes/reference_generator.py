@@ -22,6 +22,11 @@ answered period t (its joint command stamped t), the simulator steps to t + 1 / 
 reference of that period is sent at once, while physics runs, instead of at its clock tick;
 a tick whose reference has not gone out that way (no controller yet) still sends it.
 
+The planner's own extension of a walk (request_id 0) is stamped with the start of the step that
+asked for it and spliced in from the first reference at or after stamp + extension_delay, so a
+run does not depend on when the message got through; one that comes later is spliced in at
+once and logged as late.
+
 A new walking_state.epoch (the state machine reset the robot) drops the walk, its plan and the
 standing feet: the references stand where the controller's sole_poses put the feet again. An
 epoch change while walking is refused (a reset is refused while walking). Inputs are checked at
@@ -91,7 +96,11 @@ class ReferenceGeneratorNode(Node):
             'max_footstep_distance': (1.0, 'largest distance between consecutive footsteps of '
                                       'a plan (m)', (0.05, 10.0)),
             'state_timeout': (0.5, 'walking_state silent this long is reported lost (s)',
-                              (0.05, 60.0))},
+                              (0.05, 60.0)),
+            'extension_delay': (0.35, "the planner's own extension of a walk (request_id 0) "
+                                'applies this long after the stamp of the step that asked for '
+                                'it, whenever it arrives before then: runs do not depend on '
+                                'message timing (s)', (0.0, 5.0))},
             read_only=('horizon', 'dt', 'rate', 'map_frame', 'state_timeout'))
         get = lambda name: self.get_parameter(name).value  # noqa: E731
         self._horizon = max(2, int(get('horizon')))
@@ -199,11 +208,23 @@ class ReferenceGeneratorNode(Node):
             check_footsteps(footsteps, self._bounds.workspace,
                             self.get_parameter('max_footstep_distance').value)
             timing = StepTiming(msg.single_support, msg.double_support)
-            done = self._session.set_plan(msg.plan_id, footsteps, timing, self._now())
+            apply_at = None
+            t_out = max(self._now(), (self._sent_ns or 0) * 1e-9)  # newest reference sent
+            if msg.request_id == 0:  # the planner's own extension, stamped with its step
+                apply_at = min(seconds_of(msg.header.stamp), self._now()) + \
+                    self.get_parameter('extension_delay').value
+            done = self._session.set_plan(msg.plan_id, footsteps, timing, t_out, apply_at)
         except (BipedPlannerError, ValueError) as error:
             self._reject('footstep_plan', f'plan {msg.plan_id} not used: {error}')
             return
-        self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): {done}')
+        if done == 'queued':
+            self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
+                                   f'extends the walk at t={apply_at:.3f} s')
+            return
+        late = '' if apply_at is None or done != 'extended' else \
+            f' {t_out - apply_at:.3f} s late (this run may differ from one on a quieter machine)'
+        self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
+                               f'{done}{late}' + (f' from t={t_out:.3f} s' if late else ''))
 
     def _on_state(self, msg: WalkingState) -> None:
         # a scheduled walk (WalkCommand.start_time) starts up to MAX_START_LEAD ahead
@@ -282,6 +303,13 @@ class ReferenceGeneratorNode(Node):
 
     def _send(self, t_ns: int) -> None:
         """Publish the reference from t_ns (ns of the node's clock), if there is one."""
+        try:
+            if self._session.apply_due(t_ns * 1e-9) == 'extended':
+                self.get_logger().info(f'plan {self._session.plan_id}: extended at '
+                                       f't={t_ns * 1e-9:.3f} s')
+        except BipedPlannerError as error:
+            self._reject('footstep_plan', f'plan {self._session.plan_id}: its extension due at '
+                         f't={t_ns * 1e-9:.3f} s not used: {error}')
         try:
             window = self._session.window(t_ns * 1e-9, self._horizon, self._dt, self._standing)
         except (BipedPlannerError, ValueError) as error:
