@@ -76,3 +76,22 @@ def test_a_malformed_p_is_refused_before_any_trial_starts(capsys):
         main(['terrain', '--no-bag', '-p', 'balance=stabilizer'])
     assert exit_info.value.code == 2
     assert 'expected node:param:=value' in capsys.readouterr().err
+
+
+class _ClockOnly:
+    def __init__(self, t: float) -> None:
+        self.t = t
+
+    def sim_time(self) -> float:
+        return self.t
+
+
+@pytest.mark.parametrize('now, start, logged', [(0.0, 10.0, False), (7.99, 10.0, False),
+                                                 (8.01, 20.0, True), (25.0, 30.0, True)])
+def test_a_scripted_walk_starts_at_the_stated_time_or_the_next_multiple(now, start, logged):
+    from pathlib import Path
+    from biped_tools.scenarios.trial import stated_start, Trial
+    lines = []
+    trial = Trial('push', 'lipm', 'x', Path('/nonexistent'), 0, log=lines.append)
+    assert stated_start(_ClockOnly(now), trial) == start
+    assert bool(lines) == logged

@@ -12,8 +12,8 @@ from typing import List
 
 import numpy as np
 
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
-                                         Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
+                                         stop_walking, Trial, write_result)
 
 TIMING = (0.3, 0.1)      # s: the paper's 0.4 s step
 FIRST_PUSH = 4.0         # s after the walk start: past the initial shift, into steady stepping
@@ -22,7 +22,6 @@ PUSH_PHASE = PUSH_FRACTION * TIMING[0]  # s into the single support (0.075 s)
 INTERVAL = 8.0           # s between pushes (20 steps)
 DURATION = 0.1           # s
 RECOVERY = INTERVAL      # s of walking after the last push to call it withstood (like the others)
-START_LEAD = 2.0         # s of sim time between the START command and the walk's start
 
 
 def forces(first: float = 80.0, maximum: float = 400.0) -> List[float]:
@@ -43,8 +42,7 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
         sim0 = session.sim_time()
         # in place, from a stated sim time: the trial does not depend on when the command got
         # through (the pushes are timed from the walk's start)
-        session.send_command(command=WalkCommand.START,
-                             start_time=round(session.sim_time() + START_LEAD, 2))
+        session.send_command(command=WalkCommand.START, start_time=stated_start(session, trial))
         session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
         walk0 = session.walk_start_time
         # the first single support begins after Initialize (1 s) and the first double support

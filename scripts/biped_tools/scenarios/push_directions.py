@@ -22,15 +22,14 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from biped_tools.graph_session import stamp_seconds
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, Trial,
-                                         write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
+                                         Trial, write_result)
 
 TIMING = (0.3, 0.1)       # s: the paper's push scenario
 DURATION = 0.1            # s
 FIRST_PUSH = 3.0          # s after the walk start: past the initial shift, into steady stepping
 INTERVAL = 4.0            # s of sim time between pushes (10 steps)
 LEAD = 0.3                # s: a push is scheduled at least this far ahead of the clock
-START_LEAD = 2.0          # s of sim time between the start command and the walk's start
 DIRECTIONS_DEG = tuple(range(0, 360, 45))
 GAITS = {'in_place': 0.0, 'forward': 0.1}   # m per step
 # phase: (support foot of its single support or None for the double support, s into the phase)
@@ -152,12 +151,12 @@ def phase_at(states, t: float) -> str:
     return f'phase {phase}'
 
 
-def gait_command(session, gait: str) -> None:
+def gait_command(session, trial: Trial, gait: str) -> None:
     """Start walking in place (START) or forward at GAITS[gait] m per step (OMNI), at a stated
-    sim time (START_LEAD ahead): the trial does not depend on when the command got through."""
+    sim time (trial.stated_start): the trial does not depend on when the command got through."""
     from biped_msgs.msg import WalkCommand
     length = GAITS[gait]
-    start = round(session.sim_time() + START_LEAD, 2)
+    start = stated_start(session, trial)
     if length == 0.0:
         session.send_command(command=WalkCommand.START, start_time=start)
     else:
@@ -180,7 +179,7 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
     with graph_for(trial, timing=TIMING, extra=extra) as session:
         progress = Progress(trial)
         sim0 = session.sim_time()
-        gait_command(session, gait)
+        gait_command(session, trial, gait)
         session.spin_until(lambda: session.walk_start_time > 0.0, 60.0)
         earliest = session.walk_start_time + FIRST_PUSH
 

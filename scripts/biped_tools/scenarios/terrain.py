@@ -11,8 +11,8 @@ import time
 
 import numpy as np
 
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
-                                         Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
+                                         stop_walking, Trial, write_result)
 
 SIDE = 4.0              # m
 BEHIND = 0.5            # m of tiles behind the robot's start: it starts on them (paper)
@@ -40,11 +40,11 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         f'terrain.min_height:={float(heights[0])!r}',
         f'terrain.max_height:={float(heights[1])!r}', f'terrain.seed:={int(seed)}']}
     with graph_for(trial, extra=tiles) as session:
-        session.wait_sim_time(1.0, 60.0)  # settle on the tiles
         progress = Progress(trial)
         sim0 = session.sim_time()
-        session.wait_for_command_listeners()
-        session.command_pub.publish(WalkCommand(command=WalkCommand.OMNI, step_length=step_length))
+        # it settles on the tiles until the stated start (the same in every run)
+        session.send_command(command=WalkCommand.OMNI, step_length=step_length,
+                             start_time=stated_start(session, trial))
         exit_x = side - BEHIND + EXIT_MARGIN
         budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0
         crossed = drive(session, lambda t: session.series.pelvis[-1][1] >= exit_x, budget,

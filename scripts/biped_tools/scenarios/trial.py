@@ -51,6 +51,23 @@ class Trial:
 # planner's teleop limit (0.2 m in its config) must not clip them; 0.3 m is the command bound.
 SWEEP_LIMITS = {'footstep_planner': ['teleop.max_step_length:=0.3']}
 
+# A scripted walk starts at a stated sim time, the same in every run: started at "now + lead",
+# the robot stood for a time that depended on how fast the graph came up, and a run near a limit
+# changed its outcome (a push trial withstood 140 N in one run and 120 N in the next).
+STATED_START = 10.0  # s of sim time (graphs are ready at 3-6 s)
+START_MARGIN = 2.0   # s of sim time the command needs before its start
+
+
+def stated_start(session, trial: 'Trial') -> float:
+    """:return: STATED_START, or the next multiple of it when the graph came up too late (then
+    logged: such a run may differ from the others)"""
+    earliest = session.sim_time() + START_MARGIN
+    start = STATED_START * max(1, math.ceil(earliest / STATED_START))
+    if start != STATED_START:
+        trial.log(f'[{trial.label}] the graph was ready at t={earliest - START_MARGIN:.2f} s: '
+                  f'the walk starts at t={start:.1f} s, not {STATED_START:.1f} s')
+    return start
+
 
 class TrialFactory:
     """Trials of one model under one output root, each on the next ROS domain of a block of 10
