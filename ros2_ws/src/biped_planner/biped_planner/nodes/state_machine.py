@@ -32,6 +32,7 @@ from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.time import Time
 from std_srvs.srv import Trigger
 
 from biped_planner.errors import BipedPlannerError, CommandError
@@ -149,8 +150,12 @@ class StateMachineNode(Node):
 
     # --- publishing -------------------------------------------------------------------------
     def _publish(self, status, now: float) -> None:
-        self._state_pub.publish(walking_state_msg(
-            status, now, self.get_clock().now().to_msg(), self._plan_id, self._stale))
+        # stamped with the `now` its time_in_phase is counted from, not a second reading of
+        # the clock (which can move meanwhile): stamp - time_in_phase is the phase's start,
+        # which the planner's extensions are timed from
+        stamp = Time(nanoseconds=round(now * 1e9)).to_msg()
+        self._state_pub.publish(walking_state_msg(status, now, stamp, self._plan_id,
+                                                  self._stale))
         self._last_publish = now
 
     def _publish_transitions(self, transitions, now: float) -> None:
