@@ -59,3 +59,15 @@ def test_a_push_is_walked_through_when_the_robot_stands_at_the_next_one():
     # fell after 110 N's window closed but before 140 N started: 110 N felled it
     assert outcome(pushes, 8.9) == ([80], 110)
     assert outcome(pushes, 2.0) == ([], None)  # down before any push
+
+
+def test_a_push_meets_the_phase_that_began_before_it_not_the_one_last_reported():
+    """The double support began at 10.3 s; its record came at 10.38 s (the state machine's
+    timer): a push at 10.3 s meets the double support."""
+    from biped_msgs.msg import WalkingState
+    from biped_tools.scenarios.push_directions import phase_at
+    states = [(9.95, WalkingState.SINGLE_SUPPORT, 7, False, '', 1, 0.05),
+              (10.38, WalkingState.DOUBLE_SUPPORT, 7, False, '', 2, 0.08)]
+    assert phase_at(states, 10.3) == 'double, step 7'
+    assert phase_at(states, 10.2) == 'single right, step 7'
+    assert phase_at(states, 9.8) == 'before the walk'

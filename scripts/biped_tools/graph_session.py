@@ -214,7 +214,7 @@ class GraphSession:
 
         def on_walking_state(m):
             s.states.append((stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen,
-                             m.reason, m.support_foot))
+                             m.reason, m.support_foot, m.time_in_phase))
             self.walk_start_time = m.walk_start_time
             self.walking_state = m
 

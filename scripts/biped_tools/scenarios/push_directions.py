@@ -138,12 +138,15 @@ def outcome(pushes: List[Dict], t_fall: Optional[float]):
 def phase_at(states, t: float) -> str:
     """The walking phase and support foot 10 ms into a push at t (a push at a phase's first
     instant meets that phase), from walking_state records (t, phase, step, fallen, reason,
-    support), e.g. 'single right, step 7'."""
+    support, time_in_phase), e.g. 'single right, step 7'.
+
+    A phase begins at its record's stamp minus its time_in_phase: the state machine notices a
+    transition up to a timer period after it happened, and stamps the record then."""
     from biped_msgs.msg import WalkingState
-    before = [s for s in states if s[0] <= t + 0.01]
+    before = [s for s in states if s[0] - s[6] <= t + 0.01]
     if not before:
         return 'before the walk'
-    _, phase, step, _, _, support = before[-1]
+    _, phase, step, _, _, support, _ = before[-1]
     if phase == WalkingState.SINGLE_SUPPORT:
         return f'single {SUPPORT_NAMES.get(support, support)}, step {step}'
     if phase == WalkingState.DOUBLE_SUPPORT:
