@@ -11,11 +11,12 @@ import time
 
 import numpy as np
 
+from biped_sim.terrain_trial import PAPER_BEHIND, PAPER_SIDE
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
                                          stop_walking, Trial, write_result)
 
-SIDE = 4.0              # m
-BEHIND = 0.5            # m of tiles behind the robot's start: it starts on them (paper)
+SIDE = PAPER_SIDE       # m, the library's paper_terrain too: the same tiles for a seed
+BEHIND = PAPER_BEHIND   # m of tiles behind the robot's start: it starts on them (paper)
 HEIGHTS = (0.025, 0.05)  # m
 TILE_AREAS_CM2 = (100, 400, 625)
 STEP_LENGTH = 0.1       # m per step

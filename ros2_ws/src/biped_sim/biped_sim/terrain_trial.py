@@ -95,9 +95,17 @@ def lane_step_terrain(step: float, base: float = 0.0, edge: float = 0.105) -> Te
     return Terrain(params, heights)
 
 
-def paper_terrain(tile_area: float, seed: int, side_length: float = 3.0,
+# The paper's tiled area as the graph's terrain scenario lays it out (scripts/biped_tools/
+# scenarios/terrain.py uses these): the same seed gives the same tiles in both. With a 3 m side
+# the library walked other tiles than the graph (100 cm^2 seed 2 stood there and fell in both
+# at 4 m).
+PAPER_SIDE = 4.0    # m
+PAPER_BEHIND = 0.5  # m of tiles behind the robot's start
+
+
+def paper_terrain(tile_area: float, seed: int, side_length: float = PAPER_SIDE,
                   heights: tuple = (0.025, 0.05)) -> Terrain:
-    """The paper's tiles starting 0.5 m behind the robot, centred on its path.
+    """The paper's tiles starting PAPER_BEHIND behind the robot, centred on its path.
 
     :param tile_area: area of a tile (m^2)
     :param seed: seed of the heights
@@ -107,7 +115,7 @@ def paper_terrain(tile_area: float, seed: int, side_length: float = 3.0,
     """
     return generate_terrain(TerrainParams(
         tile_area=tile_area, side_length=side_length, min_height=heights[0],
-        max_height=heights[1], origin=(-0.5, -0.5 * side_length), seed=seed))
+        max_height=heights[1], origin=(-PAPER_BEHIND, -0.5 * side_length), seed=seed))
 
 
 def run_trial(backend, controller, n_steps: int, step_length: float, terrain=None,

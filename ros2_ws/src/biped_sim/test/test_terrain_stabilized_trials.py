@@ -35,3 +35,14 @@ def test_the_stabilizer_walks_further_on_tiles_than_the_open_loop(sim, robot):
         result = run_trial(sim, controller, 24, 0.1, terrain)
         reached[balance] = result.distance if not math.isnan(result.distance) else 0.0
     assert reached['stabilizer'] > reached['open_loop'] + 0.1
+
+
+@pytest.mark.parametrize('area_cm2, seed', [(100, 2), (625, 3)])
+def test_the_library_walks_the_tiles_the_graph_scenario_lays(area_cm2, seed):
+    """paper_terrain and the simulator node's terrain.* parameters as scripts/scenarios.py
+    terrain sets them give the same tiles for a seed."""
+    from biped_sim.nodes.simulator_parameters import terrain_from
+    from biped_sim.terrain_trial import PAPER_BEHIND, PAPER_SIDE
+    node = terrain_from(1, PAPER_SIDE, -PAPER_BEHIND, -0.5 * PAPER_SIDE,
+                        math.sqrt(area_cm2) / 100.0, 0.025, 0.05, seed)
+    np.testing.assert_array_equal(paper_terrain(area_cm2 * 1e-4, seed).heights, node.heights)
