@@ -43,6 +43,7 @@ class RunSeries:
     solve_times: List[float] = field(default_factory=list)   # s
     plans: list = field(default_factory=list)                 # FootstepPlan messages
     adjustments: list = field(default_factory=list)           # StepAdjustment messages
+    plans_before_adjustment: list = field(default_factory=list)  # len(plans) as each came
     path: list = field(default_factory=list)                  # (x, y) of the last nav Path
 
 
@@ -222,7 +223,11 @@ class GraphSession:
         node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
                                  lambda m: s.solve_times.append(m.solve_time), 50)
         node.create_subscription(FootstepPlan, 'footstep_plan', s.plans.append, latched)
-        node.create_subscription(StepAdjustment, 'step_adjustment', s.adjustments.append, 50)
+        def on_adjustment(m):
+            s.adjustments.append(m)
+            s.plans_before_adjustment.append(len(s.plans))
+
+        node.create_subscription(StepAdjustment, 'step_adjustment', on_adjustment, 50)
         node.create_subscription(PathMsg, 'plan', lambda m: setattr(s, 'path', [
             (p.pose.position.x, p.pose.position.y) for p in m.poses]), latched)
 

@@ -83,14 +83,14 @@ def next_push_time(single_start: float, single_duration: float, support: str, ph
 
 def adjustment_records(series, sim0: float) -> dict:
     """What the step adjuster did, from step_adjustment and footstep_plan records: each
-    adjustment's time (from sim0), step, landing and the landing the plan had before it; and
-    whether the planner's last plan of the walk holds the last adjusted landing (the planner
-    republished it)."""
+    adjustment's time (from sim0), step, landing and the landing the plan had before it (the
+    plans received before the adjustment: a plan's stamp is the step it was made for, which can
+    be earlier than an adjustment it already holds); and whether the planner's last plan of the
+    walk holds the last adjusted landing (the planner republished it)."""
     steps = []
-    for msg in series.adjustments:
+    for msg, count in zip(series.adjustments, series.plans_before_adjustment):
         index = msg.step_index + 2
-        before = [p for p in series.plans if p.plan_id == msg.plan_id and
-                  stamp_seconds(p.header.stamp) < stamp_seconds(msg.header.stamp) and
+        before = [p for p in series.plans[:count] if p.plan_id == msg.plan_id and
                   len(p.footsteps) > index]
         landing = msg.footsteps[index]
         planned = before[-1].footsteps[index] if before else landing

@@ -62,7 +62,6 @@ from biped_mpc.errors import BipedMpcError, InputError
 from biped_mpc.input_bounds import check_reference_window, InputBounds
 from biped_mpc.mpc_params import MpcParams
 from biped_mpc.nodes.conversions import deadline_terms, diagnostics_msg, sole_poses_msg
-from biped_mpc.nodes.latest_message_reader import LatestMessageReader
 from biped_mpc.nodes.sensor_intake import SensorFrames, SensorIntake
 from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
 from biped_mpc.reference_supervisor import ReferenceSupervisor
@@ -71,6 +70,7 @@ from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.walking_controller import WalkingController
 from biped_planner.node_support.dataclass_parameters import (declare_dataclass_parameters,
                                                              declare_node_parameters)
+from biped_planner.node_support.latest_message_reader import LatestMessageReader
 from biped_planner.node_support.liveliness import LivelinessToken, LivelinessWatch
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.reference_messages import window_from_reference_msg

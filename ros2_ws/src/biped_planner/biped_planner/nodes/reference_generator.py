@@ -46,6 +46,7 @@ from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.qos import QoSProfile
 from rclpy.time import Time
 from sensor_msgs.msg import JointState
 
@@ -54,6 +55,7 @@ from biped_planner.footsteps import feet_beside
 from biped_planner.input_watch import InputWatch
 from biped_planner.node_support.dataclass_parameters import (
     declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
+from biped_planner.node_support.latest_message_reader import LatestMessageReader
 from biped_planner.node_support.liveliness import LivelinessToken
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
@@ -123,8 +125,12 @@ class ReferenceGeneratorNode(Node):
         self._stale = ()
         self._pub = self.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
         self._adjustment_pub = self.create_publisher(StepAdjustment, 'step_adjustment', 10)
-        if self._adjuster_params.enabled:
-            self.create_subscription(BalanceEstimate, 'balance_estimate', self._on_balance, 10)
+        # Read when a reference is about to go out, not by a callback: the estimate of period t
+        # then always shapes the reference of t + 1 (a callback could run after the command of
+        # t had sent it, depending on the load).
+        self._balance_reader = LatestMessageReader(
+            self, BalanceEstimate, 'balance_estimate', QoSProfile(depth=10)) \
+            if self._adjuster_params.enabled else None
         self._alive = LivelinessToken(self, 'reference_trajectory')  # the controller waits for it
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
@@ -155,6 +161,16 @@ class ReferenceGeneratorNode(Node):
             if self._adjuster_params.enabled else None
         return ReferenceSession(self._reference_params, adjuster)
 
+    def destroy_node(self) -> None:
+        if self._balance_reader is not None:
+            self._balance_reader.destroy()
+        super().destroy_node()
+
+    def _answer_balance_estimates(self) -> None:
+        if self._balance_reader is not None:
+            for msg in self._balance_reader.take_all():
+                self._on_balance(msg)
+
     def _on_balance(self, msg: BalanceEstimate) -> None:
         """The controller's balance estimate: the step adjuster answers it."""
         t = seconds_of(msg.header.stamp)
@@ -177,15 +193,16 @@ class ReferenceGeneratorNode(Node):
             self._reject('balance_estimate', error)
             return
         if adjustment is not None:
-            self._publish_adjustment(adjustment)
+            self._publish_adjustment(adjustment, msg.header.stamp)
 
-    def _publish_adjustment(self, adjustment) -> None:
+    def _publish_adjustment(self, adjustment, stamp) -> None:
+        """:param stamp: the time of the estimate it answers"""
         msg = StepAdjustment(plan_id=adjustment.plan_id, revision=adjustment.revision,
                              step_index=adjustment.step_index,
                              touchdown_time=adjustment.touchdown,
                              planned_touchdown_time=adjustment.planned_touchdown,
                              footsteps=footstep_msgs(adjustment.footsteps))
-        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.header.stamp = stamp
         msg.header.frame_id = self._frame
         self._adjustment_pub.publish(msg)
         landing = adjustment.footsteps[adjustment.step_index + 2]
@@ -303,6 +320,7 @@ class ReferenceGeneratorNode(Node):
 
     def _send(self, t_ns: int) -> None:
         """Publish the reference from t_ns (ns of the node's clock), if there is one."""
+        self._answer_balance_estimates()
         try:
             if self._session.apply_due(t_ns * 1e-9) == 'extended':
                 self.get_logger().info(f'plan {self._session.plan_id}: extended at '
