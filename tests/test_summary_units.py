@@ -86,8 +86,8 @@ class _ClockOnly:
         return self.t
 
 
-@pytest.mark.parametrize('now, start, logged', [(0.0, 10.0, False), (7.99, 10.0, False),
-                                                 (8.01, 20.0, True), (25.0, 30.0, True)])
+@pytest.mark.parametrize('now, start, logged', [
+    (0.0, 10.0, False), (7.99, 10.0, False), (8.01, 20.0, True), (25.0, 30.0, True)])
 def test_a_scripted_walk_starts_at_the_stated_time_or_the_next_multiple(now, start, logged):
     from pathlib import Path
     from biped_tools.scenarios.trial import stated_start, Trial

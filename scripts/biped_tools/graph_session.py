@@ -223,6 +223,7 @@ class GraphSession:
         node.create_subscription(ControllerDiagnostics, 'controller_diagnostics',
                                  lambda m: s.solve_times.append(m.solve_time), 50)
         node.create_subscription(FootstepPlan, 'footstep_plan', s.plans.append, latched)
+
         def on_adjustment(m):
             s.adjustments.append(m)
             s.plans_before_adjustment.append(len(s.plans))

@@ -275,7 +275,6 @@ class ReferenceSession:
         return 'extended'
 
 
-
 def appends_to(footsteps: Sequence[Footstep], longer: Sequence[Footstep]) -> bool:
     """:return: whether longer is footsteps with more steps after them"""
     return len(longer) > len(footsteps) and tuple(longer[:len(footsteps)]) == tuple(footsteps)
