@@ -124,6 +124,8 @@ def test_commands_sent_once_right_after_the_first_match_take_effect_every_time(u
                 ended += 1
             watch.drop_publishers()
             print(f'[test] {user_topic} {attempt + 1}: started {started}, ended {ended}')
+            # fail at the fall: every later command is refused only after its waits time out
+            assert not session.fallen(), f'fell in walk {attempt + 1}'
         assert not session.fallen()
     assert (started, ended) == (REPEATS, REPEATS)
     rejected = [s for s in watch.statuses if not s.accepted]
