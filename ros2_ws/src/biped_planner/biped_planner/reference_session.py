@@ -81,14 +81,6 @@ class _Plan:
     timing: StepTiming
 
 
-@dataclass(frozen=True)
-class _QueuedExtension:
-    plan_id: int
-    footsteps: Tuple[Footstep, ...]
-    timing: StepTiming
-    apply_at: float
-
-
 class ReferenceSession:
     """Builds and updates the reference of the current walk."""
 
@@ -104,7 +96,7 @@ class ReferenceSession:
         self._reference_plan_id: Optional[int] = None
         self._walk_start: Optional[float] = None
         self._last_walked_plan_id: Optional[int] = None
-        self._queued: Optional[_QueuedExtension] = None
+        self._extension_due: Optional[float] = None  # when self._plan extends the walk
 
     @property
     def reference(self) -> Optional[WalkingReference]:
@@ -184,15 +176,14 @@ class ReferenceSession:
             have already started); the current reference is kept
         """
         self._plan = _Plan(plan_id, tuple(footsteps), timing)
-        self._queued = None  # a plan is the whole list: a newer one replaces a waiting one
+        self._extension_due = None  # a plan is the whole list: a newer one replaces a waiting one
         if self._walk_start is not None and self._reference_plan_id is None:
             self._build()
             return 'built'
         if self._walk_start is not None and plan_id == self._reference_plan_id:
             if apply_at is not None and apply_at > t_now and \
                     appends_to(self._reference.footsteps, self._plan.footsteps):
-                self._queued = _QueuedExtension(plan_id, self._plan.footsteps, timing,
-                                                float(apply_at))
+                self._extension_due = float(apply_at)
                 return 'queued'
             return self._splice(self._plan.footsteps, timing, t_now)
         return 'stored'
@@ -203,13 +194,13 @@ class ReferenceSession:
         :return: what was done ('extended', 'unchanged'), None when nothing was due
         :raises ConfigError: when the change no longer fits the reference (dropped)
         """
-        queued = self._queued
-        if queued is None or t < queued.apply_at:
+        due = self._extension_due
+        if due is None or t < due:
             return None
-        self._queued = None
-        if self._walk_start is None or queued.plan_id != self._reference_plan_id:
+        self._extension_due = None
+        if self._walk_start is None or self._plan.plan_id != self._reference_plan_id:
             return None
-        return self._splice(queued.footsteps, queued.timing, queued.apply_at)
+        return self._splice(self._plan.footsteps, self._plan.timing, due)
 
     def start_walk(self, walk_start: float) -> bool:
         """The state machine started a walk at walk_start (idempotent).
@@ -220,7 +211,7 @@ class ReferenceSession:
             return self._reference_plan_id is not None
         self._walk_start = walk_start
         self._reference_plan_id = None
-        self._queued = None
+        self._extension_due = None
         if self._plan is not None and self._plan.plan_id != self._last_walked_plan_id:
             self._build()
             return True
@@ -229,7 +220,7 @@ class ReferenceSession:
     def end_walk(self) -> None:
         """The robot stands again; the reference keeps holding its final pose."""
         self._walk_start = None
-        self._queued = None
+        self._extension_due = None
 
     def window(self, t: float, n: int, dt: float,
                standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:

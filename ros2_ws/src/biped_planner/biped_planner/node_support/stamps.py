@@ -4,3 +4,9 @@
 def seconds_of(stamp) -> float:
     """Seconds of a builtin_interfaces/Time (sec, nanosec)."""
     return stamp.sec + stamp.nanosec * 1e-9
+
+
+def time_msg_of(seconds: float):
+    """A builtin_interfaces/Time of seconds (rounded to the nanosecond)."""
+    from rclpy.time import Time
+    return Time(nanoseconds=round(seconds * 1e9)).to_msg()

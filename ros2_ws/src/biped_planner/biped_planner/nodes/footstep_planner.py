@@ -27,7 +27,6 @@ from geometry_msgs.msg import PoseArray
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg, Odometry, Path
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.time import Time
 from visualization_msgs.msg import MarkerArray
 
 from biped_planner.astar import AStarPlanner
@@ -41,7 +40,7 @@ from biped_planner.node_support.map_messages import grid_from_msg
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED, LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
-from biped_planner.node_support.stamps import seconds_of
+from biped_planner.node_support.stamps import seconds_of, time_msg_of
 from biped_planner.nodes.conversions import (body_between, checked_pose2d, failed_plan_msg,
                                              feet_from_sole_poses, footstep_markers,
                                              footstep_plan_msg, footsteps_from_msgs,
@@ -225,7 +224,7 @@ class FootstepPlannerNode(Node):
             stamp = None  # an implausible state's own timing: now
             if 0.0 <= msg.time_in_phase <= msg.phase_duration + 1.0 and \
                     0.0 <= phase_start <= self.get_clock().now().nanoseconds * 1e-9 + 1.0:
-                stamp = Time(nanoseconds=round(phase_start * 1e9)).to_msg()
+                stamp = time_msg_of(phase_start)
             try:
                 self._publish(self._session.on_step(msg.step_index), stamp=stamp)
             except BipedPlannerError as error:
@@ -356,7 +355,7 @@ class FootstepPlannerNode(Node):
     def _publish(self, update, request_id: int = 0, stamp=None) -> None:
         if update is None:
             return
-        stamp = stamp or self.get_clock().now().to_msg()
+        stamp = stamp if stamp is not None else self.get_clock().now().to_msg()
         self._plan_pub.publish(footstep_plan_msg(
             update, self._timing.single_support, self._timing.double_support, self._frame,
             stamp, request_id))

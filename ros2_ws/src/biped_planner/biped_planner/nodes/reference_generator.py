@@ -238,10 +238,11 @@ class ReferenceGeneratorNode(Node):
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
                                    f'extends the walk at t={apply_at:.3f} s')
             return
-        late = '' if apply_at is None or done != 'extended' else \
-            f' {t_out - apply_at:.3f} s late (this run may differ from one on a quieter machine)'
+        late = '' if apply_at is None or done != 'extended' or apply_at > t_out else \
+            (f' {t_out - apply_at:.3f} s late (this run may differ from one on a quieter '
+             f'machine) from t={t_out:.3f} s')
         self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
-                               f'{done}{late}' + (f' from t={t_out:.3f} s' if late else ''))
+                               f'{done}{late}')
 
     def _on_state(self, msg: WalkingState) -> None:
         # a scheduled walk (WalkCommand.start_time) starts up to MAX_START_LEAD ahead

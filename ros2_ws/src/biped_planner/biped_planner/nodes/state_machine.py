@@ -32,7 +32,6 @@ from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Odometry
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.time import Time
 from std_srvs.srv import Trigger
 
 from biped_planner.errors import BipedPlannerError, CommandError
@@ -44,7 +43,7 @@ from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.node_support.side_call import SideCall
-from biped_planner.node_support.stamps import seconds_of
+from biped_planner.node_support.stamps import seconds_of, time_msg_of
 from biped_planner.nodes.conversions import (command_status_msg, goal_command_from_msg,
                                              plan_walk_request, received_plan, twist_of,
                                              velocity_from_twist, walk_command_from_msg,
@@ -153,8 +152,7 @@ class StateMachineNode(Node):
         # stamped with the `now` its time_in_phase is counted from, not a second reading of
         # the clock (which can move meanwhile): stamp - time_in_phase is the phase's start,
         # which the planner's extensions are timed from
-        stamp = Time(nanoseconds=round(now * 1e9)).to_msg()
-        self._state_pub.publish(walking_state_msg(status, now, stamp, self._plan_id,
+        self._state_pub.publish(walking_state_msg(status, now, time_msg_of(now), self._plan_id,
                                                   self._stale))
         self._last_publish = now
 
