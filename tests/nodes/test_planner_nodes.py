@@ -248,6 +248,58 @@ def test_teleop_cmd_vel_starts_a_continuous_plan_that_grows_while_walking(graph)
     assert g['states'].messages[-1].reason == 'plan finished'
 
 
+def moves_forward(start, footsteps, by=0.03) -> bool:
+    """Whether a footstep is more than `by` ahead of the start pose (along its heading)."""
+    return any((f.x - start.x) * math.cos(start.yaw) + (f.y - start.y) * math.sin(start.yaw) >
+               by for f in footsteps)
+
+
+def stamp_s(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+
+
+def test_a_command_stated_for_a_later_time_steers_from_the_first_step_starting_then(graph):
+    """The planner holds a teleop command whose start_time is ahead and changes the steps from
+    the first step that starts at or after it: the walk does not depend on when it arrived."""
+    g = graph
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI))  # walk in place
+    first = latest_plan(g)
+    g['clock'].advance(2.0)
+    assert g['states'].messages[-1].phase in (WalkingState.SINGLE_SUPPORT,
+                                              WalkingState.DOUBLE_SUPPORT)
+    stated = g['clock'].t + 1.5
+    statuses = len(g['statuses'].messages)
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI, step_length=0.1,
+                                     start_time=stated))
+    assert last_status(g, statuses).error_code == CommandStatus.OK
+    g['clock'].advance(4.0)
+    plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
+
+    def forward(plan):
+        return moves_forward(g['start'], plan.footsteps)
+    before = [p for p in plans if stamp_s(p) < stated - 1e-6]
+    assert before and not any(forward(p) for p in before)
+    extensions = sorted(stamp_s(p) for p in plans if p.request_id == 0 and
+                        stamp_s(p) >= stated - 1e-6)
+    first_forward = next(p for p in plans if forward(p))
+    assert first_forward.request_id == 0 and stamp_s(first_forward) == extensions[0]
+
+
+def test_stop_drops_a_command_stated_for_later(graph):
+    g = graph
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI))
+    first = latest_plan(g)
+    g['clock'].advance(1.0)
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI, step_length=0.1,
+                                     start_time=g['clock'].t + 2.0))
+    g['clock'].advance(0.2)
+    g['command'].publish(WalkCommand(command=WalkCommand.STOP))
+    g['clock'].advance(4.0)
+    assert g['states'].messages[-1].phase == WalkingState.IDLE
+    plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
+    assert not any(moves_forward(g['start'], p.footsteps) for p in plans)
+
+
 def test_non_finite_cmd_vel_is_rejected(graph):
     count = len(graph['plans'].messages)
     statuses = len(graph['statuses'].messages)

@@ -167,6 +167,18 @@ class PlanSession:
         self._fill_to(step_index)
         return self._update()
 
+    def set_command(self, command: StepCommand, step_time: float) -> bool:
+        """Change the command of the steps a continuous teleop plan appends from now on, without
+        appending any (the next on_step does).
+
+        :return: whether a continuous teleop plan took it (False: no such plan, nothing done)
+        """
+        if self._mode != PlanMode.TELEOP or not self._continuous:
+            return False
+        self._command = command
+        self._step_time = step_time
+        return True
+
     def on_step(self, step_index: int) -> Optional[PlanUpdate]:
         """The robot started step step_index: keep a teleop plan far enough ahead.
 

@@ -110,3 +110,20 @@ def test_an_adjustment_of_another_plan_or_of_walked_footsteps_changes_nothing():
     with pytest.raises(InputError, match='step_index'):
         s.adopt_adjustment(plan.plan_id, 99, plan.footsteps)
     assert s.on_step(0) is None and s.on_step(1).footsteps[:5] == plan.footsteps
+
+
+def test_set_command_steers_only_the_steps_appended_after_it():
+    s = session()
+    in_place = s.teleop(StepCommand(0.0, 0.0, 0.0), 0.6, Pose2D(0.0, 0.0))
+    assert s.set_command(StepCommand(0.1, 0.0, 0.0), 0.6)
+    assert s.on_step(0) is None  # nothing appended yet: the plan is unchanged
+    grown = s.on_step(1)
+    xs = [f.x for f in grown.footsteps]
+    assert xs[:len(in_place.footsteps)] == [f.x for f in in_place.footsteps]
+    assert xs[-1] > max(xs[:-1]) + 0.05  # the appended step moves forward (lag-filtered)
+
+
+def test_set_command_without_a_teleop_walk_does_nothing():
+    s = session()
+    assert not s.set_command(StepCommand(0.1, 0.0, 0.0), 0.6)
+    assert s.mode != PlanMode.TELEOP

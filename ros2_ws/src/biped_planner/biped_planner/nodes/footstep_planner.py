@@ -6,7 +6,10 @@ command, goal or velocity -> accepted, plan_id, error code), the way nav2's navi
 planner server. Every plan published answers a request: FootstepPlan.request_id is that
 request's id, or 0 for this node's own extension of a continuous (teleop) plan; an extension
 is stamped with the start of the walking_state phase that asked for it (the reference generator
-times its splice from that).
+times its splice from that). A teleop command (START, OMNI) for a walk under way whose
+start_time is ahead of the clock waits here and steers the steps appended from the first step
+that starts at or after that time (biped_planner.scheduled_commands): a scripted walk then does
+not depend on when its commands arrived. STOP, a goal or a new walk drop the waiting ones.
 
 Service: plan_walk (biped_msgs/PlanWalk), offered once the start pose is known (odom or
 sole_poses).
@@ -52,6 +55,7 @@ from biped_planner.plan_session import LOOKAHEAD_RANGE, PlanMode, PlanSession
 from biped_planner.pose2d import Pose2D
 from biped_planner.pose_checks import check_pose, PoseBounds
 from biped_planner.reference_session import check_footsteps
+from biped_planner.scheduled_commands import ScheduledCommands
 from biped_planner.step_timing import StepTiming
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import Phase, WALKING_PHASES
@@ -118,6 +122,7 @@ class FootstepPlannerNode(Node):
         self._astar = None
         self._pose = None
         self._state = None
+        self._scheduled = ScheduledCommands()  # teleop commands stated for a later step
         self._plan_pub = self.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
         self._path_pub = self.create_publisher(Path, 'plan', LATCHED)
         self._marker_pub = self.create_publisher(MarkerArray, 'footstep_markers', LATCHED)
@@ -217,6 +222,7 @@ class FootstepPlannerNode(Node):
         if msg.phase == WalkingState.IDLE and previous is not None and \
                 previous.phase in WALKING_PHASES:
             self._session.walk_finished()
+            self._drop_scheduled('the walk ended')
         elif msg.phase in (WalkingState.SINGLE_SUPPORT, WalkingState.DOUBLE_SUPPORT):
             # stamped with the start of the phase that asked for it, not with when this
             # callback ran: the reference generator times the extension from it
@@ -225,6 +231,7 @@ class FootstepPlannerNode(Node):
             if 0.0 <= msg.time_in_phase <= msg.phase_duration + 1.0 and \
                     0.0 <= phase_start <= self.get_clock().now().nanoseconds * 1e-9 + 1.0:
                 stamp = time_msg_of(phase_start)
+                self._apply_scheduled(phase_start)
             try:
                 self._publish(self._session.on_step(msg.step_index), stamp=stamp)
             except BipedPlannerError as error:
@@ -269,8 +276,10 @@ class FootstepPlannerNode(Node):
     def _serve(self, request: PlanWalk.Request) -> Failure:
         rid = request.request_id
         try:
+            start_time = 0.0
             if request.kind == PlanWalk.Request.KIND_COMMAND:
                 command = walk_command_from_msg(request.command, self._limits, self._frame)
+                start_time = request.command.start_time
             elif request.kind == PlanWalk.Request.KIND_GOAL:
                 command = goal_command_from_msg(request.goal, self._frame, self._limits)
             elif request.kind == PlanWalk.Request.KIND_VELOCITY:
@@ -287,7 +296,7 @@ class FootstepPlannerNode(Node):
         if command.kind == CommandKind.GOTO:
             return self._goto(Pose2D(*command.goal), rid)
         if command.kind in (CommandKind.START, CommandKind.OMNI):
-            return self._teleop(StepCommand(*command.step), command.step_time, rid)
+            return self._teleop(StepCommand(*command.step), command.step_time, rid, start_time)
         return self._stop(rid)  # STOP, and RESET: the state machine resets, the plan ends
 
     # --- planning ---------------------------------------------------------------------------
@@ -304,6 +313,7 @@ class FootstepPlannerNode(Node):
         if self._walking():
             return self._fail(FootstepPlan.ERROR_INVALID_COMMAND,
                               'GOTO while walking: send STOP first, then the goal', request_id)
+        self._drop_scheduled('a goal was given')
         try:
             update = self._session.goto(self._astar, self._pose, goal)
         except BipedPlannerError as error:
@@ -316,7 +326,24 @@ class FootstepPlannerNode(Node):
         self._publish(update, request_id)
         return None
 
-    def _teleop(self, command: StepCommand, step_time: float, request_id: int) -> Failure:
+    def _teleop(self, command: StepCommand, step_time: float, request_id: int,
+                start_time: float = 0.0) -> Failure:
+        step_time = step_time or self._timing.step_time
+        if self._walking() and self._session.mode == PlanMode.TELEOP and \
+                start_time > self.get_clock().now().nanoseconds * 1e-9:
+            try:
+                self._scheduled.add(start_time, (command, step_time))
+            except BipedPlannerError as error:
+                return self._fail(FootstepPlan.ERROR_INVALID_COMMAND, str(error), request_id)
+            self.get_logger().info(f'request {request_id}: steers the steps from the first '
+                                   f'that starts at or after t={start_time:.3f} s')
+            return None
+        if self._walking() and start_time > 0.0:
+            self.get_logger().warning(f'request {request_id} for t={start_time:.3f} s came '
+                                      'after that time: it steers from now (a run that may '
+                                      'differ from one on a quieter machine)')
+        if not self._walking():
+            self._drop_scheduled('a new walk starts')
         if self._pose is None and self._session.mode != PlanMode.TELEOP:
             return self._fail(FootstepPlan.ERROR_NO_POSE, 'no odometry received on odom',
                               request_id)
@@ -326,14 +353,28 @@ class FootstepPlannerNode(Node):
                               'for IDLE before a teleop command', request_id)
         step = self._state.step_index if self._walking() else 0
         try:
-            update = self._session.teleop(command, step_time or self._timing.step_time,
-                                          self._pose or Pose2D(0.0, 0.0), step)
+            update = self._session.teleop(command, step_time, self._pose or Pose2D(0.0, 0.0),
+                                          step)
         except BipedPlannerError as error:
             return self._fail(error_code_of(error), str(error), request_id)
         self._publish(update, request_id)
         return None
 
+    def _apply_scheduled(self, step_start: float) -> None:
+        """Steer by the commands whose time came, before the step starting at step_start is
+        planned on."""
+        for command, step_time in self._scheduled.due(step_start):
+            if self._session.set_command(command, step_time):
+                self.get_logger().info(
+                    f'scheduled command {command} from the step starting at t={step_start:.3f} s')
+
+    def _drop_scheduled(self, why: str) -> None:
+        dropped = self._scheduled.clear()
+        if dropped:
+            self.get_logger().info(f'{dropped} scheduled command(s) dropped: {why}')
+
     def _stop(self, request_id: int) -> Failure:
+        self._drop_scheduled('stop requested')
         step = self._committed_step()
         try:
             self._publish(self._session.stop(step, self._walking()), request_id)
