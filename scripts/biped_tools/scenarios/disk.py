@@ -18,8 +18,8 @@ import math
 import numpy as np
 
 from biped_tools.scenarios.sweep import grid, largest_completing
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stop_walking,
-                                         SWEEP_LIMITS, Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
+                                         stop_walking, SWEEP_LIMITS, Trial, write_result)
 
 DISK_CENTRE = (0.0, 1.8)
 DISK_RADIUS = 1.35
@@ -31,8 +31,9 @@ RADIUS_TOLERANCE = 0.35  # m: the walk must stay within 2 m +- this
 RETURN_TOLERANCE = 0.5   # m: distance to the start after the lap
 SETTLING = 3.0           # s at the start (weight shift, first steps) not held to the circle
 SAMPLE_PERIOD = 0.02     # s between LapCounter updates (one per control period)
-COMMAND_DELAY = 0.25  # s of sim time after a step starts (steps of 0.4 + 0.2 s)
+COMMAND_DELAY = 0.25  # s after a step starts: its command's stated time (steps of 0.4 + 0.2 s)
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
+WALKING = (2, 3)  # biped_msgs/WalkingState SINGLE_SUPPORT, DOUBLE_SUPPORT
 
 
 def disk_map():
@@ -117,46 +118,58 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         session.publish_map(disk_map())
         progress = Progress(trial)
         sim0 = session.sim_time()
-        com = lambda: session.series.com[-1][1:3] if session.series.com else (0.0, 0.0)  # noqa
-        start = np.array(com())
+        session.wait_for_command_listeners()
+        walk0 = stated_start(session, trial)
+        session.spin_until(lambda: session.sim_time() >= walk0 - 1.0, 120.0)
+        # where the robot stands, read at a stated time (COM samples in stamp order)
+        start = np.array(_sample_at(session.series.com, walk0 - 1.0))
         lap = LapCounter(start)
-        state = {'step': None, 'since': 0.0, 'sent': True}
+        state = {'step': None, 'since': 0.0, 'sent': True, 'read': 0}
 
-        def planned_pose():
+        def planned_pose(plans):
             """Where the plan ends (midpoint of its last two footsteps, last yaw): the new
             step is taken from there, a few steps ahead of the robot (teleop lookahead)."""
-            plans = [p for p in session.series.plans if p.status == 0 and
-                     len(p.footsteps) >= 2]
+            plans = [p for p in plans if p.status == 0 and len(p.footsteps) >= 2]
             if not plans:
-                return com(), 0.0
+                return start, 0.0
             a, b = plans[-1].footsteps[-2:]
             return (0.5 * (a.x + b.x), 0.5 * (a.y + b.y)), b.yaw
 
-        def send_command():
-            x, y, turn = steering.command(*planned_pose())
-            session.command_pub.publish(_omni(x, y, turn))
+        def send_command(plans, start_time: float):
+            x, y, turn = steering.command(*planned_pose(plans))
+            session.command_pub.publish(_omni(x, y, turn, start_time))
 
         def on_time(t: float) -> bool:
-            lap.update(com())
-            if state['step'] is None:      # the first command starts the walk
+            # every COM sample, in order, up to the one that completes the lap
+            com = session.series.com
+            while state['read'] < len(com) and lap.swept < 2.0 * math.pi * laps:
+                sample = com[state['read']]
+                state['read'] += 1
+                if sample[0] >= walk0:
+                    lap.update(sample[1:3])
+            if state['step'] is None:      # the first command starts the walk at walk0
                 state['step'] = 0
-                send_command()
+                send_command([], walk0)
             states = session.series.states
-            if states and states[-1][2] != state['step']:
-                state.update(step=states[-1][2], since=_step_start(states), sent=False)
-            # One command per step, sent COMMAND_DELAY after the step starts: the plan the
-            # robot extended at the step's start has arrived by then, and the command reaches
-            # the planner long before it extends the plan again at the next step. Sent at the
-            # step change itself, it raced the planner, and near-limit outcomes varied.
-            if not state['sent'] and t >= state['since'] + COMMAND_DELAY:
-                state['sent'] = True
-                send_command()
+            if states and states[-1][2] != state['step'] and states[-1][1] in WALKING:
+                state.update(step=states[-1][2], since=states[-1][0] - states[-1][6],
+                             sent=False)
+            # One command per step, from the plan the robot extended at the step's start
+            # (stamped with that start), stated for COMMAND_DELAY after it: the planner applies
+            # it at the next phase (the double support) and extends with it at the next step,
+            # whenever it arrived before then. Without the plan in time, the newest one.
+            if not state['sent']:
+                since = state['since']
+                plans = [p for p in session.series.plans if stamp(p) < since + 1e-6]
+                if (plans and stamp(plans[-1]) > since - 1e-6) or t >= since + COMMAND_DELAY:
+                    state['sent'] = True
+                    send_command(plans, since + COMMAND_DELAY)
             return lap.swept >= 2.0 * math.pi * laps
 
         step_time = 0.6
         expected = 2.0 * math.pi * CIRCLE_RADIUS * laps / step_length * step_time
-        session.wait_for_command_listeners()
-        completed = drive(session, on_time, 1.5 * expected + 10.0, progress,
+        completed = drive(session, on_time, 1.5 * expected + 10.0 + walk0 - session.sim_time(),
+                          progress,
                           lambda: f'swept {math.degrees(lap.swept):.0f} deg')
         stood = stop_walking(session) if completed else False
         result = base_result(trial, session, wall0, sim0)
@@ -175,13 +188,16 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
     return write_result(trial, result)
 
 
-def _step_start(states) -> float:
-    """Sim time of the first walking state of the latest step index (published on every
-    transition, so it is the transition's time whenever the runner looks)."""
-    index = len(states) - 1
-    while index > 0 and states[index - 1][2] == states[-1][2]:
-        index -= 1
-    return states[index][0]
+def _sample_at(samples, t: float) -> tuple:
+    """(x, y) of the last (t, x, y, ...) sample stamped at or before t (the first one if
+    none is)."""
+    before = [sample for sample in samples if sample[0] <= t + 1e-9]
+    chosen = before[-1] if before else samples[0]
+    return float(chosen[1]), float(chosen[2])
+
+
+def stamp(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
 
 def largest_step_length(make_trial) -> tuple:
@@ -191,9 +207,10 @@ def largest_step_length(make_trial) -> tuple:
         make_trial('disk', f'{length:.2f}'), length)['success'], first=0.15)
 
 
-def _omni(x: float, y: float, turn: float):
+def _omni(x: float, y: float, turn: float, start_time: float):
     from biped_msgs.msg import WalkCommand
-    return WalkCommand(command=WalkCommand.OMNI, step_length=x, step_width=y, step_angle=turn)
+    return WalkCommand(command=WalkCommand.OMNI, step_length=x, step_width=y, step_angle=turn,
+                       start_time=float(start_time))
 
 
 def plot(trial: Trial, series, result: dict):
