@@ -7,6 +7,8 @@ from biped_msgs.msg import Footstep as FootstepMsg, FootstepPlan, ReferenceTraje
     WalkingState
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import Pose, PoseArray
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Header
 import numpy as np
 import pytest
 import rclpy
@@ -131,6 +133,79 @@ def test_the_planners_extension_applies_at_its_step_stamp_plus_the_delay(gen):
     g['plan'].publish(user)
     g['clock'].advance(0.05)
     assert g['rosout'].has(f'{len(steps)} footsteps): extended')
+
+
+def held_clock_command(g, t: float):
+    """The lockstep pattern: the clock stands at t and the controller's command of t is out;
+    the generator then sends the reference of t + 0.02 s at once."""
+    from builtin_interfaces.msg import Time
+    from rosgraph_msgs.msg import Clock
+    from sensor_msgs.msg import JointState
+    stamp = Time(sec=int(t), nanosec=round((t % 1) * 1e9))
+    g['clock'].publisher.publish(Clock(clock=stamp))
+    spin_until(g['executor'], lambda: False, 0.05)
+    g['commands'].publish(JointState(header=Header(stamp=stamp)))
+
+
+def continuous_walk(g):
+    """A teleop walk of 8 footsteps (request 1): the planner would extend it at each step."""
+    g['commands'] = g['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(g['executor'], g['commands'], timeout=15)
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    plan = plan_msg(1, straight_footsteps(8, 0.0, 0.14))
+    plan.continuous, plan.request_id = True, 1
+    g['plan'].publish(plan)
+    state(g, WalkingState.INITIALIZE, walk_start=g['clock'].t)
+    g['clock'].advance(3.0)  # past the second step's start + extension_delay
+    return plan
+
+
+def test_in_lockstep_a_reference_waits_for_the_extension_due_by_its_time(gen):
+    """With a planner alive (its liveliness token), the reference of a time by which the
+    planner's extension is due is held until the extension comes: the controller and the
+    simulator wait with it, and the run does not depend on when the extension got through."""
+    import re
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = gen
+    token = LivelinessToken(g['client'], 'footstep_plan')  # a planner in this process
+    plan = continuous_walk(g)
+    # the moving test clock is no lockstep: the steps so far were walked without a wait
+    passed = [float(re.search(r'step from t=([0-9.]+) s', line).group(1))
+              for line in g['rosout'].lines if 'without the planner' in line]
+    assert passed, 'no extension was due while the clock ran'
+    due = round(max(passed) + 0.6, 3)  # the next step's start (0.4 + 0.2 s steps)
+    t = round(due + 0.35 + 0.01, 2)  # its extension is due by the reference of t + 0.02
+    count = len(g['refs'].messages)
+    held_clock_command(g, t)
+    assert spin_until(g['executor'], lambda: g['rosout'].has(
+        f'step from t={due:.3f} s', 'waits'), 5.0)
+    spin_until(g['executor'], lambda: False, 0.5)
+    assert not [m for m in g['refs'].messages[count:]
+                if abs(stamp_seconds(m) - (t + 0.02)) < 1e-6], 'sent without the extension'
+    extension = plan_msg(1, straight_footsteps(9, 0.0, 0.14))
+    extension.continuous = True
+    extension.header.stamp.sec, extension.header.stamp.nanosec = int(due), round(
+        (due % 1) * 1e9)
+    g['plan'].publish(extension)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+    del token, plan
+
+
+def test_without_a_live_planner_a_reference_does_not_wait(gen):
+    g = gen
+    continuous_walk(g)
+    t = round(g['clock'].t, 2)
+    count = len(g['refs'].messages)
+    held_clock_command(g, t)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+    assert not g['rosout'].has('waits for the planner')
+
+
+def stamp_seconds(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
 
 @pytest.mark.parametrize('change, words', [

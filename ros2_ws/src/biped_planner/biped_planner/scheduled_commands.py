@@ -14,6 +14,7 @@ from typing import Any, List, Tuple
 from biped_planner.errors import InputError
 
 MAX_WAITING = 100  # commands; more waiting at once are refused (a flood, not a schedule)
+RESOLUTION = 1e-6  # s: a time this close after a step start counts as that start (ns stamps)
 
 
 class ScheduledCommands:
@@ -42,7 +43,8 @@ class ScheduledCommands:
     def due(self, step_start: float) -> List[Any]:
         """The commands whose time has come for a step starting at step_start (s), in order;
         they are removed."""
-        index = bisect.bisect_right([entry[0] for entry in self._waiting], step_start)
+        index = bisect.bisect_right([entry[0] for entry in self._waiting],
+                                    step_start + RESOLUTION)
         taken, self._waiting = self._waiting[:index], self._waiting[index:]
         return [entry[2] for entry in taken]
 

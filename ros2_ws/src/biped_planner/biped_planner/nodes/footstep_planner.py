@@ -37,6 +37,7 @@ from biped_planner.errors import (BipedPlannerError, CommandError, FrameError, G
                                   GoalOutsideMapError, MapError, NoPathError,
                                   StartOccupiedError, StartOutsideMapError)
 from biped_planner.footstep_planner import FootstepPlanner, FootstepPlannerParams
+from biped_planner.node_support.liveliness import LivelinessToken
 from biped_planner.node_support.dataclass_parameters import (
     declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
 from biped_planner.node_support.map_messages import grid_from_msg
@@ -124,6 +125,8 @@ class FootstepPlannerNode(Node):
         self._state = None
         self._scheduled = ScheduledCommands()  # teleop commands stated for a later step
         self._plan_pub = self.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
+        # the reference generator waits for this process's extensions in lockstep while alive
+        self._alive = LivelinessToken(self, 'footstep_plan')
         self._path_pub = self.create_publisher(Path, 'plan', LATCHED)
         self._marker_pub = self.create_publisher(MarkerArray, 'footstep_markers', LATCHED)
         self.create_subscription(OccupancyGridMsg, 'map', self._on_map, LATCHED_IN)

@@ -25,7 +25,11 @@ a tick whose reference has not gone out that way (no controller yet) still sends
 The planner's own extension of a walk (request_id 0) is stamped with the start of the step that
 asked for it and spliced in from the first reference at or after stamp + extension_delay, so a
 run does not depend on when the message got through; one that comes later is spliced in at
-once and logged as late.
+once and logged as late. On sim time the reference of a time by which a continuous walk's
+extension is due waits for it (biped_planner.extension_wait; the controller and, in lockstep,
+the simulator wait with it) while the planner's process is alive (DDS liveliness of
+footstep_plan/alive), at most extension_wait s of wall time, and not once the clock has passed
+that time (a simulator in real time).
 
 A new walking_state.epoch (the state machine reset the robot) drops the walk, its plan and the
 standing feet: the references stand where the controller's sole_poses put the feet again. An
@@ -51,12 +55,13 @@ from rclpy.time import Time
 from sensor_msgs.msg import JointState
 
 from biped_planner.errors import BipedPlannerError
+from biped_planner.extension_wait import awaited_extension
 from biped_planner.footsteps import feet_beside
 from biped_planner.input_watch import InputWatch
 from biped_planner.node_support.dataclass_parameters import (
     declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
 from biped_planner.node_support.latest_message_reader import LatestMessageReader
-from biped_planner.node_support.liveliness import LivelinessToken
+from biped_planner.node_support.liveliness import LivelinessToken, LivelinessWatch
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
@@ -102,7 +107,10 @@ class ReferenceGeneratorNode(Node):
             'extension_delay': (0.35, "the planner's own extension of a walk (request_id 0) "
                                 'applies this long after the stamp of the step that asked for '
                                 'it, whenever it arrives before then: runs do not depend on '
-                                'message timing (s)', (0.0, 5.0))},
+                                'message timing (s)', (0.0, 5.0)),
+            'extension_wait': (2.0, "on sim time, how long (s of wall time) a reference waits "
+                               "for the planner's extension due by its time while the planner "
+                               'is alive; 0: never waits', (0.0, 60.0))},
             read_only=('horizon', 'dt', 'rate', 'map_frame', 'state_timeout'))
         get = lambda name: self.get_parameter(name).value  # noqa: E731
         self._horizon = max(2, int(get('horizon')))
@@ -132,6 +140,12 @@ class ReferenceGeneratorNode(Node):
             self, BalanceEstimate, 'balance_estimate', QoSProfile(depth=10)) \
             if self._adjuster_params.enabled else None
         self._alive = LivelinessToken(self, 'reference_trajectory')  # the controller waits for it
+        self._planner_process = LivelinessWatch(self, 'footstep_plan')
+        self._continuous = False  # the newest plan used is a teleop plan the planner extends
+        self._newest_extension = None  # (plan_id, stamp s) of the planner's newest extension
+        # (step start s, wall time the wait began or None when given up, newest and first
+        # t_ns held) of the extension being waited for
+        self._waiting = None
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
@@ -228,12 +242,25 @@ class ReferenceGeneratorNode(Node):
             apply_at = None
             t_out = max(self._now(), (self._sent_ns or 0) * 1e-9)  # newest reference sent
             if msg.request_id == 0:  # the planner's own extension, stamped with its step
-                apply_at = min(seconds_of(msg.header.stamp), self._now()) + \
+                # this node's clock can lag the planner's by a period or two (its /clock
+                # callback not yet run): only a stamp farther ahead is not believed
+                stamp = seconds_of(msg.header.stamp)
+                apply_at = (stamp if stamp <= self._now() + MAX_STAMP_LEAD else self._now()) + \
                     self.get_parameter('extension_delay').value
             done = self._session.set_plan(msg.plan_id, footsteps, timing, t_out, apply_at)
         except (BipedPlannerError, ValueError) as error:
             self._reject('footstep_plan', f'plan {msg.plan_id} not used: {error}')
             return
+        self._continuous = bool(msg.continuous)
+        if msg.request_id == 0:
+            stamp = seconds_of(msg.header.stamp)
+            newest = self._newest_extension
+            if newest is None or newest[0] != msg.plan_id or stamp > newest[1]:
+                self._newest_extension = (msg.plan_id, stamp)
+        waiting = self._waiting
+        if waiting is not None and waiting[1] is not None and (
+                self._sent_ns is None or waiting[2] > self._sent_ns):
+            self._send(waiting[2])  # the reference waiting for it goes out now, if it may
         if done == 'queued':
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
                                    f'extends the walk at t={apply_at:.3f} s')
@@ -319,8 +346,53 @@ class ReferenceGeneratorNode(Node):
             self.destroy_subscription(self._soles_sub)
             self._soles_sub = None
 
+    def _awaits_extension(self, t_ns: int) -> bool:
+        """Whether the reference of t_ns must wait for the planner's extension (see module)."""
+        limit = self.get_parameter('extension_wait').value
+        reference = self._session.reference
+        clock = self.get_clock()
+        if limit <= 0.0 or reference is None or not self._continuous or \
+                not clock.ros_time_is_active:
+            return False
+        newest = self._newest_extension
+        due = awaited_extension(
+            reference.phases, t_ns * 1e-9, self.get_parameter('extension_delay').value,
+            newest[1] if newest is not None and newest[0] == self._session.plan_id else None)
+        waiting = self._waiting
+        if due is None:
+            self._waiting = None
+            return False
+        if waiting is not None and waiting[0] == due:
+            if waiting[1] is None:
+                return False  # given up on already
+            why = None
+            if clock.now().nanoseconds > waiting[3]:
+                why = 'the clock runs on (no lockstep)'
+            elif time.monotonic() - waiting[1] >= limit:
+                why = f'it did not come in {limit} s'
+            if why is None:
+                self._waiting = (due, waiting[1], max(t_ns, waiting[2]), waiting[3])
+                return True
+            self.get_logger().warning(
+                f"the step from t={due:.3f} s is walked without the planner's extension: {why} "
+                '(this run may differ from another)')
+            self._waiting = (due, None, t_ns, waiting[3])
+            return False
+        if not (self._planner_process.alive_count > 0 or self._planner_process.local):
+            self.get_logger().warning(
+                f"no planner alive: the step from t={due:.3f} s is walked without its extension",
+                throttle_duration_sec=5.0)
+            self._waiting = (due, None, t_ns, t_ns)
+            return False
+        self.get_logger().info(f'reference of t={t_ns * 1e-9:.3f} s waits for the planner\'s '
+                               f'extension for the step from t={due:.3f} s')
+        self._waiting = (due, time.monotonic(), t_ns, t_ns)
+        return True
+
     def _send(self, t_ns: int) -> None:
         """Publish the reference from t_ns (ns of the node's clock), if there is one."""
+        if self._awaits_extension(t_ns):
+            return
         self._answer_balance_estimates()
         try:
             if self._session.apply_due(t_ns * 1e-9) == 'extended':
@@ -402,7 +474,11 @@ class ReferenceGeneratorNode(Node):
                                   values=[KeyValue(key='stale_inputs',
                                                    value=','.join(self._stale)),
                                           KeyValue(key='step_adjustments',
-                                                   value=str(self._session.adjustments))])
+                                                   value=str(self._session.adjustments)),
+                                          KeyValue(key='waiting_for_extension_of_step_at',
+                                                   value='' if self._waiting is None or
+                                                   self._waiting[1] is None else
+                                                   f'{self._waiting[0]:.3f}')])
         msg = DiagnosticArray(status=[status])
         msg.header.stamp = self.get_clock().now().to_msg()
         self._diagnostics_pub.publish(msg)

@@ -1,0 +1,38 @@
+"""Which of the planner's extensions a continuous walk's reference must wait for in lockstep.
+
+The planner extends a continuous (teleop) plan as each step from the second one starts, and
+stamps the extension with that step's start; the reference generator splices it in at stamp +
+extension delay. In lockstep nothing else waits for the planner: on a loaded machine an
+extension could come after its splice time and be spliced later, which changes the run. The
+generator therefore holds the reference of a time by which an extension is due until the
+extension has come (or the planner is gone). Pure Python, time is an argument.
+"""
+from typing import Optional, Sequence
+
+from biped_planner.reference_phases import PHASE_SINGLE_SUPPORT
+
+FIRST_EXTENDED_STEP = 2  # the phases' step_index of the first step the planner extends at
+STAMP_TOLERANCE = 0.03  # s: the state machine's phase start and the reference's agree to this
+
+
+def awaited_extension(phases: Sequence, t: float, delay: float,
+                      newest_extension: Optional[float]) -> Optional[float]:
+    """The start of the latest step whose extension is due by t and has not come.
+
+    :param phases: the reference's phases (ReferencePhase), in time order
+    :param t: the time of the reference about to go out (s)
+    :param delay: how long after a step's start its extension is spliced in (s)
+    :param newest_extension: stamp of the newest extension received for this plan (s), None
+        when none has come
+    :return: that step's start (s), None when nothing is awaited
+    """
+    due = None
+    for phase in phases:
+        if phase.t_begin + delay > t:
+            break
+        if phase.kind == PHASE_SINGLE_SUPPORT and phase.step_index >= FIRST_EXTENDED_STEP:
+            due = phase.t_begin
+    if due is None or (newest_extension is not None and
+                       newest_extension >= due - STAMP_TOLERANCE):
+        return None
+    return due
