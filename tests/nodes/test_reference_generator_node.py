@@ -27,8 +27,17 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 @pytest.fixture
 def gen(ros_context, executor):
+    return make_gen(ros_context, executor)
+
+
+@pytest.fixture
+def gen_short_wait(ros_context, executor):
+    return make_gen(ros_context, executor, [Parameter('extension_wait', value=0.3)])
+
+
+def make_gen(ros_context, executor, parameters=()):
     executor.track(ReferenceGeneratorNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True)]))
+        Parameter('use_sim_time', value=True)] + list(parameters)))
     client = executor.track(rclpy.create_node('reference_test_client', context=ros_context))
     g = dict(client=client, executor=executor, clock=SimClock(client, executor),
              rosout=RosoutLines(client))
@@ -191,6 +200,33 @@ def test_in_lockstep_a_reference_waits_for_the_extension_due_by_its_time(gen):
     assert spin_until(g['executor'], lambda: any(
         abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
     del token, plan
+
+
+def test_an_extension_that_does_not_come_is_waited_for_once_not_at_every_step(gen_short_wait):
+    """A live but hung planner: the reference waits extension_wait (here 0.3 s), then goes
+    out, and later steps do not wait again until an extension comes in time (no crawling)."""
+    import re
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = gen_short_wait
+    token = LivelinessToken(g['client'], 'footstep_plan')
+    continuous_walk(g)
+    passed = [float(re.search(r'step from t=([0-9.]+) s', line).group(1))
+              for line in g['rosout'].lines if 'without the planner' in line]
+    due = round(max(passed) + 0.6, 3)
+    t = round(due + 0.36, 2)
+    count = len(g['refs'].messages)
+    held_clock_command(g, t)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+    assert g['rosout'].has(f'step from t={due:.3f} s', 'did not come in 0.3 s')
+    t_next = round(t + 0.6, 2)  # the next step's extension is due too, and not waited for
+    count = len(g['refs'].messages)
+    held_clock_command(g, t_next)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t_next + 0.02)) < 1e-6 for m in g['refs'].messages[count:]),
+        0.25), 'waited again'
+    assert not g['rosout'].has(f'step from t={due + 0.6:.3f} s', 'waits')
+    del token
 
 
 def test_without_a_live_planner_a_reference_does_not_wait(gen):

@@ -146,6 +146,9 @@ class ReferenceGeneratorNode(Node):
         # (step start s, wall time the wait began or None when given up, newest and first
         # t_ns held) of the extension being waited for
         self._waiting = None
+        # an extension did not come in extension_wait: no more waits until one comes in time
+        # (a live but hung planner would otherwise cost that much wall time at every step)
+        self._planner_behind = False
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_subscription(FootstepPlan, 'footstep_plan', self._on_plan, LATCHED_IN)
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
@@ -253,6 +256,10 @@ class ReferenceGeneratorNode(Node):
             return
         self._continuous = bool(msg.continuous)
         if msg.request_id == 0:
+            if self._planner_behind and apply_at is not None and apply_at > t_out:
+                self._planner_behind = False
+                self.get_logger().info("the planner's extensions come in time again: "
+                                       'references wait for them again')
             stamp = seconds_of(msg.header.stamp)
             newest = self._newest_extension
             if newest is None or newest[0] != msg.plan_id or stamp > newest[1]:
@@ -352,7 +359,7 @@ class ReferenceGeneratorNode(Node):
         reference = self._session.reference
         clock = self.get_clock()
         if limit <= 0.0 or reference is None or not self._continuous or \
-                not clock.ros_time_is_active:
+                not clock.ros_time_is_active or self._planner_behind:
             return False
         newest = self._newest_extension
         due = awaited_extension(
@@ -369,7 +376,9 @@ class ReferenceGeneratorNode(Node):
             if clock.now().nanoseconds > waiting[3]:
                 why = 'the clock runs on (no lockstep)'
             elif time.monotonic() - waiting[1] >= limit:
-                why = f'it did not come in {limit} s'
+                why = (f'it did not come in {limit} s (no more waits until an extension comes '
+                       'in time)')
+                self._planner_behind = True
             if why is None:
                 self._waiting = (due, waiting[1], max(t_ns, waiting[2]), waiting[3])
                 return True
@@ -446,6 +455,9 @@ class ReferenceGeneratorNode(Node):
         if not clock.ros_time_is_active:
             return
         now_ns = clock.now().nanoseconds
+        waiting = self._waiting
+        if waiting is not None and waiting[1] is not None:
+            self._send(waiting[2])  # still waiting for an extension, or the wait is over
         held, self._held_ns = now_ns == self._held_ns, now_ns
         # a moving clock is served by _on_timer and _on_command: no second copy from here
         if self._sent_ns is None or (held and self._sent_ns <= now_ns):
