@@ -202,6 +202,9 @@ def base_result(trial: Trial, session: GraphSession, wall0: float, sim0: float) 
         'scenario': trial.scenario, 'model': trial.model, 'setting': trial.setting,
         'fallen': t_fall is not None,
         'fall_time_s': None if t_fall is None else round(t_fall - sim0, 2),
+        # the fall's own sim time: the same in every run of a trial (sim0 is when the runner
+        # happened to look, which depends on the load)
+        'fall_sim_time_s': None if t_fall is None else round(t_fall, 3),
         'simulated_s': round(session.sim_time() - sim0, 2),
         'wall_s': round(time.monotonic() - wall0, 1),
         'max_tilt_deg': round(math.degrees(max(p[4] for p in session.series.pelvis)), 2),
