@@ -5,22 +5,27 @@ planner, reference generator, MPC controller), the map server serving the paper'
 map from its nav2 map file (biped_planner's maps/paper_start_goal.yaml + .pgm), sends the goal
 as a user would (goal_pose), records a rosbag2 of the run, and writes plots (map, A* path,
 footsteps, COM; ZMP against the support polygon) and summary.json. Success: the walk finished
-without a fall, the pelvis within GOAL_TOLERANCE of the goal.
+without a fall, the pelvis within GOAL_TOLERANCE of the goal, SETTLE s after the walk ended.
+As a summary trial the goal goes as a GOTO walk command with a stated start (trial.STATED_START)
+instead, so that the trial does not depend on when the message arrived.
 """
 import json
+import math
 from pathlib import Path
 import statistics
 import time
 
-from biped_msgs.msg import FootstepPlan
+from biped_msgs.msg import FootstepPlan, WalkCommand
 
 from biped_tools.graph_session import GraphSession, IDLE
 from biped_tools.paths import PAPER_MAP
 from biped_tools.run_plots import top_view, zmp_figure, zmp_inside_fraction
-from biped_tools.scenarios.trial import fresh_bag_dir, graph_overrides, Trial, write_result
+from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, START_MARGIN,
+                                         STATED_START, Trial, write_result)
 
 GOAL_TOLERANCE = 0.15  # m between the final pelvis and the goal
 NO_MAP_RETRIES = 5     # goals sent while the planner answers that it has no map yet
+SETTLE = 1.0           # s after the walk ended (Idle) at which the final pelvis is read
 
 
 def arrived(summary: dict) -> bool:
@@ -30,8 +35,12 @@ def arrived(summary: dict) -> bool:
 
 
 def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
-                        log=print) -> dict:
-    """One walk from the paper's START to its GOAL; the summary, also in out/summary.json."""
+                        log=print, stated: bool = False) -> dict:
+    """One walk from the paper's START to its GOAL; the summary, also in out/summary.json.
+
+    :param stated: send the goal as a GOTO walk command that starts at a stated sim time
+        (scripted trials), not as goal_pose (as a user in RViz does)
+    """
     from biped_planner.example_maps import paper_start_goal_example
     _, start, goal = paper_start_goal_example()
     bag = fresh_bag_dir(out)
@@ -43,10 +52,15 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
         grid = session.map
         t0 = session.sim_time()
         log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
+        start_time = STATED_START * max(1, math.ceil((t0 + START_MARGIN) / STATED_START))
         plan = None
         for _ in range(NO_MAP_RETRIES):
             count = len(session.series.plans)
-            session.send_goal(goal.x, goal.y, goal.yaw)
+            if stated:
+                session.send_command(command=WalkCommand.GOTO, goal_x=goal.x, goal_y=goal.y,
+                                     goal_yaw=goal.yaw, start_time=start_time)
+            else:
+                session.send_goal(goal.x, goal.y, goal.yaw)
             session.spin_until(lambda: len(session.series.plans) > count, 20.0)
             plan = session.series.plans[-1] if len(session.series.plans) > count else None
             # the planner serves plan_walk once it knows the robot's pose; the map can come a
@@ -60,11 +74,11 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
         walked = session.spin_until(lambda: session.phase() not in (None, IDLE), 20.0)
         finished = walked and session.spin_until(
             lambda: session.phase() == IDLE or session.fallen(), timeout)
-        session.wait_sim_time(1.0, 20.0)  # the final settle of the hip
+        session.wait_sim_time(SETTLE + 0.1, 20.0)  # the final settle of the hip
         series = session.series
         wall = time.monotonic() - wall_start
     bag_summary = session.summary  # written when the session closed the bag
-    pelvis = series.pelvis[-1]
+    pelvis = pelvis_after_walk(series, SETTLE)
     error = ((pelvis[1] - goal.x) ** 2 + (pelvis[2] - goal.y) ** 2) ** 0.5
     sim_duration = pelvis[0] - t0
     solve = sorted(series.solve_times)
@@ -91,11 +105,25 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
     return summary
 
 
+def pelvis_after_walk(series, settle: float):
+    """The pelvis sample `settle` s after the walk ended (its Idle phase's start), not when the
+    runner noticed; the newest sample when the walk did not end."""
+    states = series.states
+    walked = next((i for i, s in enumerate(states) if s[1] != IDLE), None)
+    idle = None if walked is None else next(
+        (s for s in states[walked:] if s[1] == IDLE), None)
+    if idle is None:
+        return series.pelvis[-1]
+    t_end = idle[0] - idle[6] + settle
+    before = [p for p in series.pelvis if p[0] <= t_end + 1e-9]
+    return before[-1] if before else series.pelvis[-1]
+
+
 def run(trial: Trial) -> dict:
     """The walk as a scenario trial: its result.json beside the demo's summary and plots."""
     trial.directory.mkdir(parents=True, exist_ok=True)
     summary = walk_start_to_goal(trial.directory, trial.domain_id, trial.model, timeout=600.0,
-                                 log=lambda line: None)
+                                 log=lambda line: None, stated=True)
     result = {'scenario': trial.scenario, 'model': trial.model, 'setting': trial.setting,
               **summary}
     result['success'] = arrived(summary)
