@@ -24,6 +24,7 @@ RECORDED_TOPICS = ['walking_state', 'footstep_plan', 'plan', 'footstep_markers',
 ALL_NODES = ['simulator', 'map_server', 'state_machine', 'footstep_planner',
              'reference_generator', 'mpc_controller']
 IDLE = WalkingState.IDLE
+STEPPING = (WalkingState.SINGLE_SUPPORT, WalkingState.DOUBLE_SUPPORT)
 # The nodes that take the user's commands (walk_command, goal_pose, cmd_vel): a command is sent
 # once all of them subscribe, so that none misses it. The state machine is the one entry point
 # (it asks the footstep planner for plans over plan_walk).

@@ -8,7 +8,7 @@ import pytest
 
 from biped_tools.scenarios import disk, omni, push, terrain
 from biped_tools.scenarios.sweep import grid, largest_completing
-from biped_tools.scenarios.trial import Trial
+from biped_tools.scenarios.trial import sample_at, stated_start_time, Trial
 from ros_harness import domain_id_for_worker
 
 
@@ -97,3 +97,16 @@ def test_disk_steering_follows_the_tangent_and_corrects_the_radius():
     # inside the circle: turn less (lean outward); outside: turn more
     assert steering.command((0.0, 1.8 - 1.7), 0.0)[2] < turn
     assert steering.command((0.0, 1.8 - 2.3), 0.0)[2] > turn
+
+
+def test_sample_at_takes_the_last_sample_stamped_at_or_before_a_time():
+    samples = [(1.0, 'a'), (1.02, 'b'), (1.04, 'c')]
+    assert sample_at(samples, 1.02) == (1.02, 'b')
+    assert sample_at(samples, 1.039) == (1.02, 'b')
+    assert sample_at(samples, 5.0) == (1.04, 'c')
+    assert sample_at(samples, 0.99) is None and sample_at([], 1.0) is None
+
+
+def test_the_stated_start_is_ten_seconds_or_the_next_multiple_with_the_margin():
+    assert stated_start_time(0.0) == stated_start_time(7.99) == 10.0
+    assert stated_start_time(8.01) == 20.0

@@ -17,9 +17,11 @@ import math
 
 import numpy as np
 
+from biped_tools.graph_session import stamp_seconds, STEPPING
 from biped_tools.scenarios.sweep import grid, largest_completing
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
-                                         stop_walking, SWEEP_LIMITS, Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
+                                         stated_start, stop_walking, SWEEP_LIMITS, Trial,
+                                         write_result)
 
 DISK_CENTRE = (0.0, 1.8)
 DISK_RADIUS = 1.35
@@ -33,7 +35,6 @@ SETTLING = 3.0           # s at the start (weight shift, first steps) not held t
 SAMPLE_PERIOD = 0.02     # s between LapCounter updates (one per control period)
 COMMAND_DELAY = 0.25  # s after a step starts: its command's stated time (steps of 0.4 + 0.2 s)
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
-WALKING = (2, 3)  # biped_msgs/WalkingState SINGLE_SUPPORT, DOUBLE_SUPPORT
 
 
 def disk_map():
@@ -122,7 +123,8 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         walk0 = stated_start(session, trial)
         session.spin_until(lambda: session.sim_time() >= walk0 - 1.0, 120.0)
         # where the robot stands, read at a stated time (COM samples in stamp order)
-        start = np.array(_sample_at(session.series.com, walk0 - 1.0))
+        com = session.series.com
+        start = np.array((sample_at(com, walk0 - 1.0) or com[0])[1:3], dtype=float)
         lap = LapCounter(start)
         state = {'step': None, 'since': 0.0, 'sent': True, 'read': 0}
 
@@ -151,7 +153,7 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
                 state['step'] = 0
                 send_command([], walk0)
             states = session.series.states
-            if states and states[-1][2] != state['step'] and states[-1][1] in WALKING:
+            if states and states[-1][2] != state['step'] and states[-1][1] in STEPPING:
                 state.update(step=states[-1][2], since=states[-1][0] - states[-1][6],
                              sent=False)
             # One command per step, from the plan the robot extended at the step's start
@@ -160,8 +162,10 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
             # whenever it arrived before then. Without the plan in time, the newest one.
             if not state['sent']:
                 since = state['since']
-                plans = [p for p in session.series.plans if stamp(p) < since + 1e-6]
-                if (plans and stamp(plans[-1]) > since - 1e-6) or t >= since + COMMAND_DELAY:
+                plans = [p for p in session.series.plans
+                         if stamp_seconds(p.header.stamp) < since + 1e-6]
+                if (plans and stamp_seconds(plans[-1].header.stamp) > since - 1e-6) or \
+                        t >= since + COMMAND_DELAY:
                     state['sent'] = True
                     send_command(plans, since + COMMAND_DELAY)
             return lap.swept >= 2.0 * math.pi * laps
@@ -186,18 +190,6 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
                                   result['radius_max_m'], result['return_error_m'], laps)
     result['plots'] = [str(plot(trial, series, result))]
     return write_result(trial, result)
-
-
-def _sample_at(samples, t: float) -> tuple:
-    """(x, y) of the last (t, x, y, ...) sample stamped at or before t (the first one if
-    none is)."""
-    before = [sample for sample in samples if sample[0] <= t + 1e-9]
-    chosen = before[-1] if before else samples[0]
-    return float(chosen[1]), float(chosen[2])
-
-
-def stamp(msg) -> float:
-    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
 
 def largest_step_length(make_trial) -> tuple:

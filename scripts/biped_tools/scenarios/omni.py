@@ -14,9 +14,11 @@ import time
 
 import numpy as np
 
+from biped_tools.graph_session import STEPPING
 from biped_tools.scenarios.sweep import grid, largest_completing
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
-                                         stop_walking, SWEEP_LIMITS, Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
+                                         stated_start, stop_walking, SWEEP_LIMITS, Trial,
+                                         write_result)
 
 STEP_TIME = 0.6     # s, the configured gait (0.4 single + 0.2 double support)
 DURATION = 36.0     # s of walk: 4 s of walking in place after the last change
@@ -25,7 +27,6 @@ SCHEDULE = ((0.0, 0.0, 0.0, 0.0), (2.0, 0.1, 0.0, 0.0), (10.0, 0.1, 0.05, 0.0),
             (20.0, 0.2, 0.05, 15.0), (32.0, 0.0, 0.0, 0.0))
 SCALES = grid(0.5, 1.5, 0.05)  # 1.5: X = 0.3 m, the command bound
 LEAD = 1.5  # s: each change is sent this long before its stated time (the planner holds it)
-WALKING = (2, 3)  # biped_msgs/WalkingState SINGLE_SUPPORT, DOUBLE_SUPPORT
 
 
 def setpoint(t_walk: float, scale: float, step_time: float = STEP_TIME) -> tuple:
@@ -60,7 +61,7 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
         def on_time(t: float) -> bool:
             # each change stated for its time and sent LEAD s before it, once walking (the
             # planner holds it and steers from the first step starting at or after it)
-            walking = session.phase() in WALKING
+            walking = session.phase() in STEPPING
             while walking and sent['count'] < len(changes) and \
                     t >= walk0 + changes[sent['count']] - LEAD:
                 at = changes[sent['count']]
@@ -77,11 +78,11 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
         stood = stop_walking(session) if completed else False
         result = base_result(trial, session, wall0, sim0)
         series = session.series
+    at_end = sample_at(series.pelvis, walk0 + duration)
     pelvis = np.array(series.pelvis)
-    at_end = pelvis[pelvis[:, 0] <= walk0 + duration + 1e-9]
     result.update({'scale': scale, 'walk_start_s': round(walk0 - sim0, 2),
-                   'pelvis_at_schedule_end': [round(float(v), 6) for v in at_end[-1, 1:3]]
-                   if len(at_end) else None,
+                   'pelvis_at_schedule_end': None if at_end is None else
+                   [round(float(v), 6) for v in at_end[1:3]],
                    'final_pelvis': [round(float(v), 3) for v in pelvis[-1, 1:3]],
                    'turned_deg': round(math.degrees(float(np.unwrap(pelvis[:, 5])[-1] -
                                                           pelvis[0, 5])), 1)})

@@ -6,11 +6,10 @@ map from its nav2 map file (biped_planner's maps/paper_start_goal.yaml + .pgm), 
 as a user would (goal_pose), records a rosbag2 of the run, and writes plots (map, A* path,
 footsteps, COM; ZMP against the support polygon) and summary.json. Success: the walk finished
 without a fall, the pelvis within GOAL_TOLERANCE of the goal, SETTLE s after the walk ended.
-As a summary trial the goal goes as a GOTO walk command with a stated start (trial.STATED_START)
-instead, so that the trial does not depend on when the message arrived.
+As a summary trial the goal goes as a GOTO walk command with a stated start
+(trial.stated_start_time) instead, so that the trial does not depend on when the message arrived.
 """
 import json
-import math
 from pathlib import Path
 import statistics
 import time
@@ -20,8 +19,8 @@ from biped_msgs.msg import FootstepPlan, WalkCommand
 from biped_tools.graph_session import GraphSession, IDLE
 from biped_tools.paths import PAPER_MAP
 from biped_tools.run_plots import top_view, zmp_figure, zmp_inside_fraction
-from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, START_MARGIN,
-                                         STATED_START, Trial, write_result)
+from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, sample_at,
+                                         stated_start_time, Trial, write_result)
 
 GOAL_TOLERANCE = 0.15  # m between the final pelvis and the goal
 NO_MAP_RETRIES = 5     # goals sent while the planner answers that it has no map yet
@@ -52,7 +51,7 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
         grid = session.map
         t0 = session.sim_time()
         log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
-        start_time = STATED_START * max(1, math.ceil((t0 + START_MARGIN) / STATED_START))
+        start_time = stated_start_time(t0)
         plan = None
         for _ in range(NO_MAP_RETRIES):
             count = len(session.series.plans)
@@ -114,9 +113,7 @@ def pelvis_after_walk(series, settle: float):
         (s for s in states[walked:] if s[1] == IDLE), None)
     if idle is None:
         return series.pelvis[-1]
-    t_end = idle[0] - idle[6] + settle
-    before = [p for p in series.pelvis if p[0] <= t_end + 1e-9]
-    return before[-1] if before else series.pelvis[-1]
+    return sample_at(series.pelvis, idle[0] - idle[6] + settle) or series.pelvis[-1]
 
 
 def run(trial: Trial) -> dict:

@@ -61,11 +61,16 @@ START_MARGIN = 2.0   # s of sim time the command needs before its start
 GRAPH_ATTEMPTS = 2
 
 
+def stated_start_time(now: float) -> float:
+    """STATED_START, or the next multiple of it when the clock (now, s) is too close to it."""
+    return STATED_START * max(1, math.ceil((now + START_MARGIN) / STATED_START))
+
+
 def stated_start(session, trial: 'Trial') -> float:
-    """:return: STATED_START, or the next multiple of it when the graph came up too late (then
-    logged: such a run may differ from the others)"""
+    """:return: stated_start_time of the session's clock (logged when it is not STATED_START:
+    such a run may differ from the others)"""
     earliest = session.sim_time() + START_MARGIN
-    start = STATED_START * max(1, math.ceil(earliest / STATED_START))
+    start = stated_start_time(session.sim_time())
     if start != STATED_START:
         trial.log(f'[{trial.label}] the graph was ready at t={earliest - START_MARGIN:.2f} s: '
                   f'the walk starts at t={start:.1f} s, not {STATED_START:.1f} s')
@@ -110,6 +115,12 @@ def graph_overrides(model: str, start=(0.0, 0.0, 0.0), timing: Optional[tuple] =
             overrides.setdefault(node, []).extend(
                 [f'single_support:={timing[0]}', f'double_support:={timing[1]}'])
     return overrides
+
+
+def sample_at(samples, t: float):
+    """The last of the (t, ...) samples stamped at or before t (s), None when none is."""
+    before = [sample for sample in samples if sample[0] <= t + 1e-9]
+    return before[-1] if before else None
 
 
 def fresh_bag_dir(directory: Path) -> Path:
