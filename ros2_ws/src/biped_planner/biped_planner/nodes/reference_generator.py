@@ -42,6 +42,7 @@ current walk's reference then runs to its plan's end and stands.
 import time
 
 import math
+from typing import NamedTuple, Optional
 
 from biped_msgs.msg import (BalanceEstimate, FootstepPlan, ReferenceTrajectory, StepAdjustment,
                             WalkingState)
@@ -82,6 +83,19 @@ from biped_planner.walking_state_machine import WALKING_PHASES
 WATCH_PERIOD = 0.1  # s of wall time between checks that walking_state still comes
 DIAGNOSTICS_PERIOD = 1.0  # s of wall time
 MAX_STAMP_LEAD = 1.0  # s: a joint command or walk start farther ahead of the clock is refused
+
+
+class ExtensionWait(NamedTuple):
+    """A reference held for the planner's extension of the step starting at step_start."""
+
+    step_start: float  # s
+    since: Optional[float]  # wall time the wait began; None: given up, the walk goes on
+    held_ns: int  # the newest reference time held
+    first_ns: int  # the first one: a clock past it runs on without this node (no lockstep)
+
+    @property
+    def holding(self) -> bool:
+        return self.since is not None
 
 
 class ReferenceGeneratorNode(Node):
@@ -143,9 +157,7 @@ class ReferenceGeneratorNode(Node):
         self._planner_process = LivelinessWatch(self, 'footstep_plan')
         self._continuous = False  # the newest plan used is a teleop plan the planner extends
         self._newest_extension = None  # (plan_id, stamp s) of the planner's newest extension
-        # (step start s, wall time the wait began or None when given up, newest and first
-        # t_ns held) of the extension being waited for
-        self._waiting = None
+        self._waiting: Optional[ExtensionWait] = None
         # an extension did not come in extension_wait: no more waits until one comes in time
         # (a live but hung planner would otherwise cost that much wall time at every step)
         self._planner_behind = False
@@ -256,18 +268,14 @@ class ReferenceGeneratorNode(Node):
             return
         self._continuous = bool(msg.continuous)
         if msg.request_id == 0:
-            if self._planner_behind and apply_at is not None and apply_at > t_out:
+            if self._planner_behind and apply_at > t_out:
                 self._planner_behind = False
                 self.get_logger().info("the planner's extensions come in time again: "
                                        'references wait for them again')
-            stamp = seconds_of(msg.header.stamp)
             newest = self._newest_extension
             if newest is None or newest[0] != msg.plan_id or stamp > newest[1]:
                 self._newest_extension = (msg.plan_id, stamp)
-        waiting = self._waiting
-        if waiting is not None and waiting[1] is not None and (
-                self._sent_ns is None or waiting[2] > self._sent_ns):
-            self._send(waiting[2])  # the reference waiting for it goes out now, if it may
+        self._send_held()  # the reference waiting for it goes out now, if it may
         if done == 'queued':
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
                                    f'extends the walk at t={apply_at:.3f} s')
@@ -369,34 +377,42 @@ class ReferenceGeneratorNode(Node):
         if due is None:
             self._waiting = None
             return False
-        if waiting is not None and waiting[0] == due:
-            if waiting[1] is None:
+        if waiting is not None and waiting.step_start == due:
+            if not waiting.holding:
                 return False  # given up on already
             why = None
-            if clock.now().nanoseconds > waiting[3]:
+            if clock.now().nanoseconds > waiting.first_ns:
                 why = 'the clock runs on (no lockstep)'
-            elif time.monotonic() - waiting[1] >= limit:
+            elif time.monotonic() - waiting.since >= limit:
                 why = (f'it did not come in {limit} s (no more waits until an extension comes '
                        'in time)')
                 self._planner_behind = True
             if why is None:
-                self._waiting = (due, waiting[1], max(t_ns, waiting[2]), waiting[3])
+                self._waiting = waiting._replace(held_ns=max(t_ns, waiting.held_ns))
                 return True
             self.get_logger().warning(
                 f"the step from t={due:.3f} s is walked without the planner's extension: {why} "
                 '(this run may differ from another)')
-            self._waiting = (due, None, t_ns, waiting[3])
+            self._waiting = waiting._replace(since=None, held_ns=t_ns)
             return False
         if not (self._planner_process.alive_count > 0 or self._planner_process.local):
             self.get_logger().warning(
                 f"no planner alive: the step from t={due:.3f} s is walked without its extension",
                 throttle_duration_sec=5.0)
-            self._waiting = (due, None, t_ns, t_ns)
+            self._waiting = ExtensionWait(due, None, t_ns, t_ns)
             return False
         self.get_logger().info(f'reference of t={t_ns * 1e-9:.3f} s waits for the planner\'s '
                                f'extension for the step from t={due:.3f} s')
-        self._waiting = (due, time.monotonic(), t_ns, t_ns)
+        self._waiting = ExtensionWait(due, time.monotonic(), t_ns, t_ns)
         return True
+
+    def _send_held(self) -> None:
+        """Send the reference held for an extension, if it may go out now (it came, or the
+        wait is over); nothing when none is held."""
+        waiting = self._waiting
+        if waiting is not None and waiting.holding and (
+                self._sent_ns is None or waiting.held_ns > self._sent_ns):
+            self._send(waiting.held_ns)
 
     def _send(self, t_ns: int) -> None:
         """Publish the reference from t_ns (ns of the node's clock), if there is one."""
@@ -455,9 +471,7 @@ class ReferenceGeneratorNode(Node):
         if not clock.ros_time_is_active:
             return
         now_ns = clock.now().nanoseconds
-        waiting = self._waiting
-        if waiting is not None and waiting[1] is not None:
-            self._send(waiting[2])  # still waiting for an extension, or the wait is over
+        self._send_held()  # still waiting for an extension, or the wait is over
         held, self._held_ns = now_ns == self._held_ns, now_ns
         # a moving clock is served by _on_timer and _on_command: no second copy from here
         if self._sent_ns is None or (held and self._sent_ns <= now_ns):
@@ -488,9 +502,9 @@ class ReferenceGeneratorNode(Node):
                                           KeyValue(key='step_adjustments',
                                                    value=str(self._session.adjustments)),
                                           KeyValue(key='waiting_for_extension_of_step_at',
-                                                   value='' if self._waiting is None or
-                                                   self._waiting[1] is None else
-                                                   f'{self._waiting[0]:.3f}')])
+                                                   value=f'{self._waiting.step_start:.3f}'
+                                                   if self._waiting is not None and
+                                                   self._waiting.holding else '')])
         msg = DiagnosticArray(status=[status])
         msg.header.stamp = self.get_clock().now().to_msg()
         self._diagnostics_pub.publish(msg)
