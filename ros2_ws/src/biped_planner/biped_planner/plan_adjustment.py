@@ -12,7 +12,6 @@ import numpy as np
 
 from biped_planner.footsteps import Footstep
 from biped_planner.input_checks import check_finite_array, check_integer
-from biped_planner.reference_phases import PHASE_SINGLE_SUPPORT
 
 
 @dataclass(frozen=True)
@@ -30,9 +29,6 @@ class SwingStep:
     :param dcm_at_touchdown: (2,) the reference's hip DCM at touchdown (m)
     :param dcm_at_lift_off: (2,) the reference's hip DCM at lift-off (m)
     :param omega: the reference's LIPM natural frequency (1/s)
-    :param next_landing: the landing of the step after (the stance foot's), None when the
-        walk has none
-    :param next_double_support: duration of the double support after this step (s)
     """
 
     step: int
@@ -46,8 +42,6 @@ class SwingStep:
     dcm_at_touchdown: np.ndarray
     dcm_at_lift_off: np.ndarray
     omega: float
-    next_landing: Optional[Footstep] = None
-    next_double_support: float = 0.0
 
     def reference_dcm(self, t: float) -> Tuple[float, float]:
         """The reference's hip DCM at a time of this single support, in closed form (m).
@@ -86,9 +80,6 @@ def swing_step_at(reference, t: float) -> Optional[SwingStep]:
     footsteps = reference.footsteps
     swing_order = (footsteps[1], footsteps[0]) + tuple(footsteps[2:])
     window = reference.sample(t, 1, 0.01)
-    phases = reference.phases
-    has_next = (step + 3 < len(footsteps) and index + 2 < len(phases)
-                and phases[index + 2].kind == PHASE_SINGLE_SUPPORT)
     return SwingStep(step=step, lift_off=phase.t_begin, touchdown=phase.t_end,
                      stance=swing_order[step + 1], landing=footsteps[step + 2],
                      zmp=np.asarray(window.zmp[0], dtype=float),
@@ -97,10 +88,7 @@ def swing_step_at(reference, t: float) -> Optional[SwingStep]:
                      dcm=reference.lipm.state_at(t)[1],
                      dcm_at_touchdown=reference.lipm.state_at(phase.t_end)[1],
                      dcm_at_lift_off=reference.lipm.state_at(phase.t_begin)[1],
-                     omega=float(reference.omega),
-                     next_landing=footsteps[step + 3] if has_next else None,
-                     next_double_support=(phases[index + 1].t_end - phases[index + 1].t_begin
-                                          if has_next else 0.0))
+                     omega=float(reference.omega))
 
 
 def moved_landings(footsteps: Sequence[Footstep], index: int,

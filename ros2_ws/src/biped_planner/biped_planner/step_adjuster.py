@@ -19,7 +19,6 @@ from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.plan_adjustment import moved_landings, swing_step_at
 from biped_planner.step_adjustment import (STATUS_BLOCKED, STATUS_FAILED, StepAdjuster,
                                            StepAdjustment, StepAdjustmentParams)
-from biped_planner.two_step_adjustment import TwoStepAdjuster
 
 
 @dataclass(frozen=True)
@@ -50,10 +49,6 @@ class OnlineStepAdjusterParams:
     replan_interval: float = parameter(
         0.04, 'shortest time between two replans of a step: the DCM estimate settles after a '
         'replan before the next is considered (s)', low=0.0, high=1.0)
-    lookahead_steps: int = parameter(
-        1, 'steps the QP plans: 1 lands the DCM at the next step (dead-beat), 2 also places the '
-        "stance foot's step after it, so that the first step is timed for what the second "
-        'can reach (a push towards the stance foot); 2 needs no keep-out boxes', low=1, high=2)
     replan_hip_from_estimate: bool = parameter(
         True, "replan the hip from the estimated COM and DCM (else from the reference's own)")
 
@@ -111,7 +106,6 @@ class OnlineStepAdjuster:
                  keep_out_boxes: Sequence[Sequence[float]] = ()) -> None:
         self.params = params
         self.qp = StepAdjuster(qp)
-        self.two_step_qp = TwoStepAdjuster(qp)
         self._omega = qp.omega
         self._boxes = [tuple(float(v) for v in box) for box in keep_out_boxes]
         self.reset()
@@ -148,8 +142,7 @@ class OnlineStepAdjuster:
             return StepAdjusterOutput(reference, self.revision, False)
         if self._nominal is None or self._nominal[0] != swing.step:
             self._nominal = (swing.step, swing.landing, swing.duration,
-                             swing.dcm_at_touchdown - [swing.landing.x, swing.landing.y],
-                             swing.next_landing)
+                             swing.dcm_at_touchdown - [swing.landing.x, swing.landing.y])
             self._replans = 0
             self._last_replan = -math.inf
         if t > swing.touchdown - self.params.freeze_time:
@@ -191,7 +184,7 @@ class OnlineStepAdjuster:
 
     def _solve(self, t: float, swing, dcm: np.ndarray, measured_zmp=None) -> StepAdjustment:
         """The QP for the DCM error beyond the deadband and what the ankle cannot take."""
-        _, landing, duration, offset, next_landing = self._nominal
+        _, landing, duration, offset = self._nominal
         reference_dcm = swing.reference_dcm(t)
         params = self.params
         deadband = params.dcm_deadband
@@ -206,15 +199,7 @@ class OnlineStepAdjuster:
         stance = swing.stance
         held = ((float(swing.zmp[0]) + ankle[0], float(swing.zmp[1]) + ankle[1])
                 if measured_zmp is None else measured_zmp)
-        stance_foot = (stance.x, stance.y, stance.yaw, stance.side)
-        dcm_answered = (reference_dcm[0] + errors[0], reference_dcm[1] + errors[1])
-        if params.lookahead_steps == 2 and next_landing is not None and not self._boxes:
-            # the step after as quick as allowed: the least the step under way must do
-            second_time = swing.next_double_support + self.qp.params.step_time_min
-            return self.two_step_qp.solve(
-                t - swing.lift_off, stance_foot, (landing.x, landing.y), duration,
-                dcm_answered, held, (next_landing.x, next_landing.y), second_time,
-                reference_dcm, (float(swing.zmp[0]), float(swing.zmp[1])))
-        return self.qp.solve(t - swing.lift_off, stance_foot, (landing.x, landing.y), duration,
-                             dcm_answered, held, nominal_offset=offset,
-                             keep_out_boxes=self._boxes)
+        return self.qp.solve(t - swing.lift_off, (stance.x, stance.y, stance.yaw, stance.side),
+                             (landing.x, landing.y), duration,
+                             (reference_dcm[0] + errors[0], reference_dcm[1] + errors[1]),
+                             held, nominal_offset=offset, keep_out_boxes=self._boxes)
