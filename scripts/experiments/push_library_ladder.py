@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Push table of the PyBullet humanoid without ROS, the graph scenario's force ladder.
+
+Like `scripts/scenarios.py push-directions` (8 directions x 4 phases, walking in place, 100 ms
+pelvis pushes), but each force of the ladder is a fresh trial (biped_sim.push_trial) and a
+cell's figure is the largest force walked through before the first fall. One process runs
+the cells in order and is deterministic: the same arguments give the same table, so two
+settings can be compared cell by cell in a few minutes (about 1.3 s per trial on a quiet
+core). Settings are overridden per group: `ctl.NAME=VALUE` (WalkingControllerParams),
+`adj.NAME=VALUE` (OnlineStepAdjusterParams, from push_trial.HUMANOID_ADJUSTER) and
+`qp.NAME=VALUE` (StepAdjustmentParams, from push_trial.HUMANOID_STEP_LIMITS).
+
+Usage: .venv/bin/python scripts/experiments/push_library_ladder.py [--adjustment off]
+           [--directions 0,90] [--phases early_single,double] [--forces 80,110,140]
+           [qp.offset_weight=100.0 ...]
+"""
+import argparse
+import ast
+from dataclasses import replace
+import math
+import time
+
+from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_sim import push_trial
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.robot_description import coman_like
+
+LEG_KP = 2000.0   # the library walks' servo gain (biped_tools.closed_loop_walk.LEG_KP)
+GROUPS = ('ctl', 'adj', 'qp')
+
+
+def overrides(settings) -> dict:
+    """{'ctl': {...}, 'adj': {...}, 'qp': {...}} from GROUP.NAME=VALUE strings."""
+    groups = {group: {} for group in GROUPS}
+    for setting in settings:
+        key, _, text = setting.partition('=')
+        group, _, name = key.partition('.')
+        if group not in groups or not name or not text:
+            raise SystemExit(f'expected GROUP.NAME=VALUE with GROUP in {GROUPS}, got '
+                             f'{setting!r}')
+        try:
+            value = ast.literal_eval(text)
+        except (ValueError, SyntaxError):
+            value = text
+        groups[group][name] = value
+    return groups
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--adjustment', choices=('on', 'off'), default='on')
+    parser.add_argument('--directions', default='0,45,90,135,180,225,270,315',
+                        help='deg from +x towards +y')
+    parser.add_argument('--phases', default=','.join(push_trial.PHASES))
+    parser.add_argument('--forces', default='80,110,140,170,200,230', help='N, in order')
+    parser.add_argument('settings', nargs='*', help='GROUP.NAME=VALUE')
+    args = parser.parse_args()
+    settings = overrides(args.settings)
+    directions = [float(d) for d in args.directions.split(',')]
+    phases = args.phases.split(',')
+    forces = [float(f) for f in args.forces.split(',')]
+    robot = coman_like()
+    backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
+    params = WalkingControllerParams(robot=robot.controller_model, model='three_mass',
+                                     balance='stabilizer', swing_target='planned',
+                                     **settings['ctl'])
+    adjuster = (replace(push_trial.HUMANOID_ADJUSTER, **settings['adj'])
+                if args.adjustment == 'on' else None)
+    limits = replace(push_trial.HUMANOID_STEP_LIMITS, **settings['qp'])
+    wall = time.monotonic()
+    print(f'three_mass, walking in place, adjustment {args.adjustment}, settings '
+          f'{args.settings or "default"}: largest push walked through (N)\n')
+    print('| direction | ' + ' | '.join(phases) + ' |')
+    print('|---|' + '---|' * len(phases))
+    withstood = []
+    for direction in directions:
+        row = []
+        for phase in phases:
+            best = 0.0
+            for force in forces:
+                trial = push_trial.run_push_trial(
+                    backend, WalkingController(params), robot.controller_model, force,
+                    math.radians(direction), phase, adjuster, limits)
+                if trial.fallen:
+                    break
+                best = force
+            row.append(best)
+        withstood += row
+        print(f'| {direction:.0f} deg | ' + ' | '.join(f'{f:.0f}' for f in row) + ' |',
+              flush=True)
+    backend.close()
+    print(f'\nminimum {min(withstood):.0f} N, sum {sum(withstood):.0f} N over '
+          f'{len(withstood)} cells, {sum(f < 150.0 for f in withstood)} below 150 N; '
+          f'{time.monotonic() - wall:.0f} s wall')
+
+
+if __name__ == '__main__':
+    main()
