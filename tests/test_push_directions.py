@@ -48,6 +48,18 @@ def test_schedule_and_table():
     text = table(results)
     assert '| 90 deg | 190 / 240 |' in text
     assert '| minimum | 100 / 150 N' in text
+    assert 'no walk' not in text
+
+
+def test_a_trial_without_a_push_is_no_figure_but_a_fall_before_one_is_zero():
+    results = [{'direction_deg': d, 'phase': 'early_single', 'adjustment': True,
+                'largest_withstood_n': 0.0 if d else 140.0, 'pushes': [] if d else [{}],
+                'fallen': d == 90} for d in (0, 45, 90)]
+    text = table(results)
+    assert '| 45 deg | no walk |' in text and '| 90 deg | 0 |' in text
+    assert '| minimum | 0 N' in text and '1 trial(s) made no push' in text
+    results[2]['fallen'] = False
+    assert '| minimum | 140 N' in table(results)
 
 
 def test_a_push_is_walked_through_when_the_robot_stands_at_the_next_one():

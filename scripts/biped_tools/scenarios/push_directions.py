@@ -227,6 +227,9 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
         'first_fall_force_n': first_fall,
     })
     result['success'] = bool(walked)
+    if not pushes and not result['fallen']:
+        result['error'] = ('the walk reached no single support before its first push: no push '
+                           'was made, the cell has no figure')
     if plot:
         result['plots'] = [str(plot_run(trial, series, result, sim0))]
     return write_result(trial, result)
@@ -280,9 +283,16 @@ def plot_run(trial: Trial, series, result: dict, sim0: float):
     return save_figure(fig, trial.directory / 'push_com_velocity_footsteps.png')
 
 
+def pushed(result: dict) -> bool:
+    """The trial met its pushes; False when the walk never reached the first one (a fall
+    before it still counts: 0 N)."""
+    return bool(result.get('pushes', True)) or bool(result.get('fallen'))
+
+
 def table(results: List[dict]) -> str:
     """Markdown: largest push withstood per direction (rows) and phase (columns), each cell
-    'off / on' when both adjustment settings were run, and the minimum."""
+    'off / on' when both adjustment settings were run, and the minimum; a trial that made no
+    push shows 'no walk' and is left out of the minimum."""
     phases = [p for p in PHASES if any(r['phase'] == p for r in results)]
     directions = sorted({r['direction_deg'] for r in results})
     settings = sorted({r['adjustment'] for r in results})
@@ -290,9 +300,10 @@ def table(results: List[dict]) -> str:
     def cell(direction, phase):
         values = []
         for setting in settings:
-            match = [r['largest_withstood_n'] for r in results if r['direction_deg'] ==
-                     direction and r['phase'] == phase and r['adjustment'] == setting]
-            values.append(f'{match[0]:.0f}' if match else '-')
+            match = [r for r in results if r['direction_deg'] == direction
+                     and r['phase'] == phase and r['adjustment'] == setting]
+            values.append('-' if not match else f"{match[0]['largest_withstood_n']:.0f}"
+                          if pushed(match[0]) else 'no walk')
         return ' / '.join(values)
     heading = ' / '.join('on' if s else 'off' for s in settings)
     lines = [f'| direction ({heading}, N) | ' + ' | '.join(phases) + ' |',
@@ -301,8 +312,12 @@ def table(results: List[dict]) -> str:
               for d in directions]
     minima = []
     for setting in settings:
-        values = [r['largest_withstood_n'] for r in results if r['adjustment'] == setting]
+        values = [r['largest_withstood_n'] for r in results
+                  if r['adjustment'] == setting and pushed(r)]
         minima.append(f'{min(values):.0f}' if values else '-')
     lines.append(f'| minimum | {" / ".join(minima)} N over directions and phases |'
                  + ' |' * (len(phases) - 1))
+    unpushed = sum(not pushed(r) for r in results)
+    if unpushed:
+        lines.append(f'\n{unpushed} trial(s) made no push (no walk): run them again.')
     return '\n'.join(lines)
