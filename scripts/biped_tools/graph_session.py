@@ -30,6 +30,10 @@ STEPPING = (WalkingState.SINGLE_SUPPORT, WalkingState.DOUBLE_SUPPORT)
 # (it asks the footstep planner for plans over plan_walk).
 COMMAND_LISTENERS = ('state_machine',)
 
+# Wall time for the push service's answer: under heavy load (three graphs on two cores) a
+# 10 s wait ran out.
+PUSH_ANSWER_TIMEOUT = 30.0
+
 
 @dataclass
 class RunSeries:
@@ -366,8 +370,13 @@ class GraphSession:
             self._velocity_timer = None
 
     def push(self, fx: float, fy: float = 0.0, duration: float = 0.1,
-             at: Optional[float] = None) -> bool:
-        """Push the pelvis; at: sim time it begins (None: at once)."""
+             at: Optional[float] = None, timeout: float = PUSH_ANSWER_TIMEOUT) -> bool:
+        """Push the pelvis; at: sim time it begins (None: at once).
+
+        :return: the simulator's answer: True applied (or scheduled), False refused
+        :raises TimeoutError: no service, or no answer within timeout s of wall time (the
+            push may have been applied: a lost answer is not a refusal)
+        """
         from biped_msgs.srv import Push
         request = Push.Request()
         request.force.x, request.force.y, request.duration = fx, fy, duration
@@ -377,8 +386,10 @@ class GraphSession:
         if not self.push_client.wait_for_service(timeout_sec=10.0):
             raise TimeoutError('push service not available')
         future = self.push_client.call_async(request)
-        self.spin_until(future.done, 10.0)
-        return future.done() and future.result().success
+        if not self.spin_until(future.done, timeout):
+            raise TimeoutError(f'the push service did not answer in {timeout:.0f} s; the push '
+                               f'may have been applied')
+        return future.result().success
 
     def set_terrain(self, **fields) -> bool:
         from biped_msgs.srv import SetTerrain

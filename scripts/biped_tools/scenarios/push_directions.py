@@ -179,6 +179,7 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
              'mpc_controller': list(CONTROLLER)}
     angle = math.radians(direction_deg)
     pushes: List[Dict] = []
+    unanswered = None
     with graph_for(trial, timing=TIMING, extra=extra) as session:
         progress = Progress(trial)
         sim0 = session.sim_time()
@@ -203,13 +204,20 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
             at = next_push_time(now - state.time_in_phase, state.phase_duration,
                                 SUPPORT_NAMES[state.support_foot], phase,
                                 max(earliest, session.sim_time() + LEAD))
-            if not session.push(force * math.cos(angle), force * math.sin(angle),
-                                duration=DURATION, at=at):
+            try:
+                applied = session.push(force * math.cos(angle), force * math.sin(angle),
+                                       duration=DURATION, at=at)
+            except TimeoutError as error:
+                # it may have been applied: watched as if it was, and the last of the trial
+                applied, unanswered = True, str(error)
+            if not applied:
                 raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
             pushes.append({'force_n': force, 'at_s': round(at - sim0, 3)})
+            if unanswered is not None:
+                pushes[-1]['answered'] = False
             end = at + DURATION + interval - 1.0
             drive(session, lambda t: t >= end, end - session.sim_time() + 1.0, progress)
-            if session.fallen():
+            if session.fallen() or unanswered is not None:
                 break
             earliest = at + interval
         result = base_result(trial, session, wall0, sim0)
@@ -230,6 +238,8 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
     if not pushes and not result['fallen']:
         result['error'] = ('the walk reached no single support before its first push: no push '
                            'was made, the cell has no figure')
+    if unanswered is not None:
+        result['error'] = (f'{unanswered}; watched as if made, and the trial stopped after it')
     if plot:
         result['plots'] = [str(plot_run(trial, series, result, sim0))]
     return write_result(trial, result)
