@@ -40,6 +40,7 @@ def push_server():
 
 
 def session_on(domain):
+    """A session with no node of its own: the service double is the only 'push'."""
     session = GraphSession(domain, nodes=[], log=lambda text: None)
     session.start(timeout=10.0)
     return session

@@ -86,7 +86,7 @@ class GraphSession:
         self.log = log
         self.domain_id = domain_id
         self.graph = NodeGraph(GraphOptions(
-            nodes=list(nodes or ALL_NODES), overrides=dict(overrides or {}),
+            nodes=list(ALL_NODES if nodes is None else nodes), overrides=dict(overrides or {}),
             domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
             keep_going=keep_going, map_file=map_file,
             compose=[list(group) for group in compose]),

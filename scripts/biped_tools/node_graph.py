@@ -198,7 +198,7 @@ class NodeGraph:
 
     def start(self) -> None:
         env = self.environment()
-        width = max(len('+'.join(g)) for g in self.groups)
+        width = max((len('+'.join(g)) for g in self.groups), default=0)
         for group in self.groups:
             name = '+'.join(group)
             process_env = env if len(group) == 1 else dict(  # composed: lines name their node
