@@ -28,21 +28,29 @@ def run_away(xi: float, zmp: float, duration: float, omega: float, drift: float 
     return pole + (xi - pole) * math.exp(omega * duration)
 
 
-def recovered(force: float, mass: float, first_landing: float, double_support: float,
-              second_step: float) -> bool:
+def push_onset() -> tuple:
+    """(push start, lift-off of its single support, lateral DCM at the push) of the trials' walk
+    (s, s, m)."""
+    reference = push_trial.walk_in_place_reference()
+    start = push_trial.push_start(reference, 'early_single')
+    lift_off = max(phase.t_begin for phase in reference.phases if phase.t_begin <= start)
+    return start, lift_off, float(reference.lipm.state_at(start)[1][1])
+
+
+def recovered(force: float, mass: float, onset: tuple, first_landing: float,
+              double_support: float, second_step: float) -> bool:
     """The outward step (stance foot, right) catches the DCM after a push to -y.
 
+    :param onset: push_onset()
     :param first_landing: the swing (left) foot lands this long after lift-off (s)
     :param double_support: then both feet stand this long (s)
     :param second_step: then the right foot swings this long (s)
     """
-    limits, reference = push_trial.HUMANOID_STEP_LIMITS, push_trial.walk_in_place_reference()
+    limits = push_trial.HUMANOID_STEP_LIMITS
     omega = limits.omega
-    start = push_trial.push_start(reference, 'early_single')
-    lift_off = max(phase.t_begin for phase in reference.phases if phase.t_begin <= start)
+    start, lift_off, xi = onset
     stance_y = -0.5 * push_trial.STEP_WIDTH
     edge = 0.5 * push_trial.REFERENCE.foot_width
-    xi = float(reference.lipm.state_at(start)[1][1])
     drift = force / (mass * omega ** 2)
     push_end = start + push_trial.PUSH_DURATION
     # the right sole's outer edge until the left foot is down and the double support is over,
@@ -61,10 +69,10 @@ def recovered(force: float, mass: float, first_landing: float, double_support: f
     return xi >= reach
 
 
-def largest(mass: float, **timing) -> int:
+def largest(mass: float, onset: tuple, **timing) -> int:
     best = 0
     for force in range(0, 500, 5):
-        if not recovered(force, mass, **timing):
+        if not recovered(force, mass, onset, **timing):
             break
         best = force
     return best
@@ -82,19 +90,19 @@ def main() -> None:
     single = push_trial.TIMING.single_support
     double = push_trial.TIMING.double_support
     fastest = limits.step_time_min
+    onset = push_onset()
     print(f'LIPM z_c {limits.com_height} m, mass {args.mass:.2f} kg, feet '
           f'{push_trial.STEP_WIDTH} m apart, soles {push_trial.REFERENCE.foot_width} m wide, '
-          f'ankles {limits.width_min}-'
-          f'{limits.width_max} m apart; push 100 ms towards the stance foot, early single '
-          f'support\n')
+          f'ankles {limits.width_min}-{limits.width_max} m apart; push 100 ms towards the '
+          f'stance foot, early single support\n')
     print('| swing foot lands after (s) | double support (s) | outward step (s) | largest '
           'push caught (N) |')
     print('|---|---|---|---|')
     for first in (single, fastest):
         for middle in (double, 0.0):
             for second in (single, fastest):
-                force = largest(args.mass, first_landing=first, double_support=middle,
-                                second_step=second)
+                force = largest(args.mass, onset, first_landing=first,
+                                double_support=middle, second_step=second)
                 print(f'| {first:.2f} | {middle:.2f} | {second:.2f} | {force} |')
 
 

@@ -24,8 +24,8 @@ from biped_mpc.walking_controller import WalkingController, WalkingControllerPar
 from biped_sim import push_trial
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
+from biped_tools.closed_loop_walk import LEG_KP
 
-LEG_KP = 2000.0   # the library walks' servo gain (biped_tools.closed_loop_walk.LEG_KP)
 GROUPS = ('ctl', 'adj', 'qp')
 
 

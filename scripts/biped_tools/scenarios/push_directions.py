@@ -212,9 +212,8 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
                 applied, unanswered = True, str(error)
             if not applied:
                 raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
-            pushes.append({'force_n': force, 'at_s': round(at - sim0, 3)})
-            if unanswered is not None:
-                pushes[-1]['answered'] = False
+            pushes.append({'force_n': force, 'at_s': round(at - sim0, 3)}
+                          | ({} if unanswered is None else {'answered': False}))
             end = at + DURATION + interval - 1.0
             drive(session, lambda t: t >= end, end - session.sim_time() + 1.0, progress)
             if session.fallen() or unanswered is not None:
@@ -312,8 +311,12 @@ def table(results: List[dict]) -> str:
         for setting in settings:
             match = [r for r in results if r['direction_deg'] == direction
                      and r['phase'] == phase and r['adjustment'] == setting]
-            values.append('-' if not match else f"{match[0]['largest_withstood_n']:.0f}"
-                          if pushed(match[0]) else 'no walk')
+            if not match:
+                values.append('-')
+            elif pushed(match[0]):
+                values.append(f"{match[0]['largest_withstood_n']:.0f}")
+            else:
+                values.append('no walk')
         return ' / '.join(values)
     heading = ' / '.join('on' if s else 'off' for s in settings)
     lines = [f'| direction ({heading}, N) | ' + ' | '.join(phases) + ' |',
