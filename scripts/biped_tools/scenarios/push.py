@@ -33,6 +33,33 @@ def forces(first: float = 80.0, maximum: float = 400.0) -> List[float]:
     return values
 
 
+def schedule_pushes(session, schedule: List[float], first_single: float,
+                    direction: float) -> tuple:
+    """Ask the simulator for every push of schedule, each PUSH_PHASE into a single support.
+
+    :param session: the trial's GraphSession (its push service).
+    :param schedule: forces (N), one push per INTERVAL from FIRST_PUSH on.
+    :param first_single: sim time (s) the walk's first single support begins.
+    :param direction: 1 along +x, -1 along -x.
+    :return: (push times (s), None or the error of the last push, which got no answer: it may
+        have been scheduled, so it is watched as if it was and none is asked for after it)
+    :raises RuntimeError: a push refused by the simulator.
+    """
+    step = sum(TIMING)
+    times = []
+    for k, force in enumerate(schedule):
+        at = first_single + step * round((FIRST_PUSH + k * INTERVAL) / step) + PUSH_PHASE
+        try:
+            applied = session.push(direction * force, duration=DURATION, at=at)
+        except TimeoutError as error:
+            times.append(at)
+            return times, str(error)
+        if not applied:
+            raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
+        times.append(at)
+    return times, None
+
+
 def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
     """Walk in place and push with the forces of schedule (N) along +x (direction 1) or -x."""
     from biped_msgs.msg import WalkCommand
@@ -47,13 +74,8 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
         walk0 = session.walk_start_time
         # the first single support begins after Initialize (1 s) and the first double support
         first_single = walk0 + 1.0 + TIMING[1]
-        step = sum(TIMING)
-        times = []
-        for k, force in enumerate(schedule):
-            at = first_single + step * round((FIRST_PUSH + k * INTERVAL) / step) + PUSH_PHASE
-            if not session.push(direction * force, duration=DURATION, at=at):
-                raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
-            times.append(at)
+        times, unanswered = schedule_pushes(session, schedule, first_single, direction)
+        schedule = schedule[:len(times)]
         end = times[-1] + DURATION + RECOVERY
         drive(session, lambda t: t >= end, end - session.sim_time() + 1.0, progress)
         stood = stop_walking(session) if not session.fallen() else False
@@ -70,6 +92,9 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
             (f for f, at, until in zip(schedule, times, ends) if at <= t_fall < until), None),
     })
     result['success'] = bool(stood and not result['fallen'])
+    if unanswered is not None:
+        result['error'] = (f'{unanswered}; watched as if made, and no push was scheduled after '
+                           f'it')
     result['plots'] = [str(plot(trial, series, result, times, schedule))]
     return write_result(trial, result)
 
