@@ -54,10 +54,13 @@ HUMANOID_STEP_LIMITS = StepAdjustmentParams(
     com_height=REFERENCE.com_height, reach_forward=0.3, reach_backward=0.2, width_min=0.1,
     width_max=0.3, step_time_min=0.15, step_time_max=0.45)
 # Replans answer a push once (and correct once); the swing foot follows its planned curve, so
-# the landing may still change 0.08 s before touchdown.
+# the landing may still change 0.08 s before touchdown. The graph's defaults
+# (biped_planner/config/reference_generator.yaml; a test keeps the two equal), so a library
+# table is read as the graph's.
 HUMANOID_ADJUSTER = OnlineStepAdjusterParams(
-    dcm_deadband=0.01, ankle_authority=0.3, location_threshold=0.04, timing_threshold=0.03,
-    freeze_time=0.08, max_replans_per_step=2, replan_interval=0.04)
+    dcm_deadband=0.01, ankle_authority=0.3, location_threshold=0.02, timing_threshold=0.03,
+    freeze_time=0.08, max_replans_per_step=2, replan_interval=0.04,
+    replan_hip_from_estimate=False)
 
 
 @dataclass(frozen=True)

@@ -6,8 +6,8 @@ import pytest
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.sides import SUPPORT_RIGHT
 from biped_sim.errors import ConfigError
-from biped_sim.push_trial import (HUMANOID_ADJUSTER, PHASES, push_start, run_push_trial,
-                                  TIMING, walk_in_place_reference)
+from biped_sim.push_trial import (HUMANOID_ADJUSTER, HUMANOID_STEP_LIMITS, PHASES, push_start,
+                                  run_push_trial, TIMING, walk_in_place_reference)
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 
@@ -71,3 +71,27 @@ def test_bad_trials_are_rejected():
         push_start(walk_in_place_reference(4), 'double', after=100.0)
     with pytest.raises(ConfigError):
         run_push_trial(None, None, None, -1.0, 0.0, 'double')
+
+
+def graph_defaults(prefix: str) -> dict:
+    """The reference generator node's YAML defaults under prefix (e.g. 'step_adjustment.')."""
+    import pathlib
+    import yaml
+    path = pathlib.Path(__file__).resolve().parents[2] / 'biped_planner' / 'config' / \
+        'reference_generator.yaml'
+    parameters = yaml.safe_load(path.read_text())['reference_generator']['ros__parameters']
+    return {key[len(prefix):]: value for key, value in parameters.items()
+            if key.startswith(prefix)}
+
+
+def test_the_library_trials_adjust_steps_as_the_graph_does():
+    # a library table is read as the graph's: the same adjuster settings and step limits
+    adjuster = graph_defaults('step_adjustment.')
+    adjuster.pop('enabled')
+    assert adjuster, 'no step_adjustment.* defaults found'
+    for name, value in adjuster.items():
+        assert getattr(HUMANOID_ADJUSTER, name) == value, name
+    limits = graph_defaults('step_limits.')
+    assert limits, 'no step_limits.* defaults found'
+    for name, value in limits.items():
+        assert getattr(HUMANOID_STEP_LIMITS, name) == value, name
