@@ -1,17 +1,19 @@
 #!/usr/bin/env python3
 """Push table of the PyBullet humanoid without ROS, the graph scenario's force ladder.
 
-Like `scripts/scenarios.py push-directions` (8 directions x 4 phases, walking in place, 100 ms
-pelvis pushes), but each force of the ladder is a fresh trial (biped_sim.push_trial) and a
-cell's figure is the largest force walked through before the first fall. One process runs
-the cells in order and is deterministic: the same arguments give the same table, so two
-settings can be compared cell by cell in a few minutes (about 1.3 s per trial on a quiet
-core). Settings are overridden per group: `ctl.NAME=VALUE` (WalkingControllerParams),
-`adj.NAME=VALUE` (OnlineStepAdjusterParams, from push_trial.HUMANOID_ADJUSTER) and
-`qp.NAME=VALUE` (StepAdjustmentParams, from push_trial.HUMANOID_STEP_LIMITS).
+Like `scripts/scenarios.py push-directions` (8 directions x 4 phases, walking in place or
+forward at 0.1 m steps, 100 ms pelvis pushes), but each force of the ladder is a fresh trial
+(biped_sim.push_trial) and a cell's figure is the largest force walked through before the first
+fall. Every trial gets a fresh simulator, so a cell's figure does not depend on the cells run
+before it (a subset of directions gives the same rows as the whole table), and the run is
+deterministic: two settings can be compared cell by cell in a few minutes (about 1.3 s per
+trial on a quiet core). Settings are overridden per group: `ctl.NAME=VALUE`
+(WalkingControllerParams), `adj.NAME=VALUE` (OnlineStepAdjusterParams, from
+push_trial.HUMANOID_ADJUSTER) and `qp.NAME=VALUE` (StepAdjustmentParams, from
+push_trial.HUMANOID_STEP_LIMITS).
 
 Usage: .venv/bin/python scripts/experiments/push_library_ladder.py [--adjustment off]
-           [--directions 0,90] [--phases early_single,double] [--forces 80,110,140]
+           [--gait forward] [--directions 0,90] [--phases early_single,double] [--forces 80,110,140]
            [qp.offset_weight=100.0 ...]
 """
 import argparse
@@ -27,6 +29,7 @@ from biped_sim.robot_description import coman_like
 from biped_tools.closed_loop_walk import LEG_KP
 
 GROUPS = ('ctl', 'adj', 'qp')
+GAITS = {'in_place': 0.0, 'forward': 0.1}   # step length (m)
 
 
 def overrides(settings) -> dict:
@@ -49,6 +52,8 @@ def overrides(settings) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--adjustment', choices=('on', 'off'), default='on')
+    parser.add_argument('--gait', choices=tuple(GAITS), default='in_place',
+                        help='walking in place or forward at 0.1 m steps (the graph scenario)')
     parser.add_argument('--directions', default='0,45,90,135,180,225,270,315',
                         help='deg from +x towards +y')
     parser.add_argument('--phases', default=','.join(push_trial.PHASES))
@@ -60,7 +65,6 @@ def main() -> None:
     phases = args.phases.split(',')
     forces = [float(f) for f in args.forces.split(',')]
     robot = coman_like()
-    backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
     params = WalkingControllerParams(robot=robot.controller_model, model='three_mass',
                                      balance='stabilizer', swing_target='planned',
                                      **settings['ctl'])
@@ -68,7 +72,7 @@ def main() -> None:
                 if args.adjustment == 'on' else None)
     limits = replace(push_trial.HUMANOID_STEP_LIMITS, **settings['qp'])
     wall = time.monotonic()
-    print(f'three_mass, walking in place, adjustment {args.adjustment}, settings '
+    print(f'three_mass, {args.gait.replace("_", " ")}, adjustment {args.adjustment}, settings '
           f'{args.settings or "default"}: largest push walked through (N)\n')
     print('| direction | ' + ' | '.join(phases) + ' |')
     print('|---|' + '---|' * len(phases))
@@ -78,9 +82,16 @@ def main() -> None:
         for phase in phases:
             best = 0.0
             for force in forces:
-                trial = push_trial.run_push_trial(
-                    backend, WalkingController(params), robot.controller_model, force,
-                    math.radians(direction), phase, adjuster, limits)
+                # a fresh simulator per trial: PyBullet's contact state carries over a reset,
+                # and a cell's figure depended on the trials run before it
+                backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
+                try:
+                    trial = push_trial.run_push_trial(
+                        backend, WalkingController(params), robot.controller_model, force,
+                        math.radians(direction), phase, adjuster, limits,
+                        step_length=GAITS[args.gait])
+                finally:
+                    backend.close()
                 if trial.fallen:
                     break
                 best = force
@@ -88,7 +99,6 @@ def main() -> None:
         withstood += row
         print(f'| {direction:.0f} deg | ' + ' | '.join(f'{f:.0f}' for f in row) + ' |',
               flush=True)
-    backend.close()
     print(f'\nminimum {min(withstood):.0f} N, sum {sum(withstood):.0f} N over '
           f'{len(withstood)} cells, {sum(f < 150.0 for f in withstood)} below 150 N; '
           f'{time.monotonic() - wall:.0f} s wall')

@@ -87,10 +87,15 @@ class PushTrialResult:
     adjuster_times: np.ndarray
 
 
+def walk_reference(step_length: float = 0.0, n_steps: int = 16) -> WalkingReference:
+    """The straight walk of the push trials: n_steps steps of step_length (m) from T_START."""
+    return WalkingReference(straight_footsteps(n_steps, step_length, STEP_WIDTH), TIMING,
+                            REFERENCE, t_start=T_START)
+
+
 def walk_in_place_reference(n_steps: int = 16) -> WalkingReference:
     """The in-place walk of the push trials (n_steps steps from T_START)."""
-    return WalkingReference(straight_footsteps(n_steps, 0.0, STEP_WIDTH), TIMING, REFERENCE,
-                            t_start=T_START)
+    return walk_reference(0.0, n_steps)
 
 
 def push_start(reference, phase: str, after: float = FIRST_PUSH_AFTER) -> float:
@@ -119,8 +124,8 @@ def run_push_trial(backend, controller, robot, force: float, direction: float, p
                    adjuster: Optional[OnlineStepAdjusterParams] = None,
                    step_limits: StepAdjustmentParams = HUMANOID_STEP_LIMITS,
                    recovery: float = RECOVERY, clock=None,
-                   measured_zmp: bool = False) -> PushTrialResult:
-    """Walk in place, push the pelvis, walk on for `recovery` s (or until a fall).
+                   measured_zmp: bool = False, step_length: float = 0.0) -> PushTrialResult:
+    """Walk in place (or forward), push the pelvis, walk on for `recovery` s (or until a fall).
 
     :param backend: a PyBulletBackend
     :param controller: a WalkingController
@@ -133,12 +138,13 @@ def run_push_trial(backend, controller, robot, force: float, direction: float, p
     :param recovery: time walked after the push (s)
     :param clock: wall clock timing each adjustment (time.perf_counter), None for no timing
     :param measured_zmp: predict the DCM with the F/T ZMP instead of the stance foot
+    :param step_length: 0 walks in place; 0.1 forward as the graph's push-directions does (m)
     :return: the trial's outcome
     :raises ConfigError: for a negative or non-finite force or an unknown phase
     """
     if not math.isfinite(force) or force < 0.0:
         raise ConfigError(f'force must be finite and >= 0 (N), got {force!r}')
-    reference = walk_in_place_reference()
+    reference = walk_reference(step_length)
     start = push_start(reference, phase)
     push = ExternalPush(force=(force * math.cos(direction), force * math.sin(direction), 0.0),
                         duration=PUSH_DURATION, start_time=start)

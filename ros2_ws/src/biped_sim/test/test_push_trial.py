@@ -1,13 +1,15 @@
 """Step adjustment on the PyBullet humanoid: a lateral push that falls without it is survived."""
 import math
 
+import numpy as np
 import pytest
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.sides import SUPPORT_RIGHT
 from biped_sim.errors import ConfigError
 from biped_sim.push_trial import (HUMANOID_ADJUSTER, HUMANOID_STEP_LIMITS, PHASES, push_start,
-                                  run_push_trial, TIMING, walk_in_place_reference)
+                                  run_push_trial, TIMING, walk_in_place_reference,
+                                  walk_reference)
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 
@@ -95,3 +97,13 @@ def test_the_library_trials_adjust_steps_as_the_graph_does():
     assert limits, 'no step_limits.* defaults found'
     for name, value in limits.items():
         assert getattr(HUMANOID_STEP_LIMITS, name) == value, name
+
+
+def test_the_forward_walk_lands_every_step_0_1_m_ahead_at_the_in_place_timing():
+    forward, in_place = walk_reference(0.1), walk_in_place_reference()
+    landings = [step.x for step in forward.footsteps[2:-1]]
+    assert np.allclose(np.diff(landings), 0.1)
+    assert [(p.kind, p.t_begin) for p in forward.phases] == \
+        [(p.kind, p.t_begin) for p in in_place.phases]
+    for phase in PHASES:
+        assert push_start(forward, phase) == push_start(in_place, phase)
