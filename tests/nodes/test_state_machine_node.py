@@ -521,3 +521,54 @@ def test_a_planner_that_does_not_answer_is_reported(ros_context, executor):
         assert g['states'].messages[-1].phase == WalkingState.IDLE
     finally:
         silent.destroy_node()
+
+
+def stamp_of(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+
+
+def test_a_stop_with_a_start_time_applies_then_as_if_it_arrived_then(graph):
+    send(graph, command=WalkCommand.START)
+    graph['clock'].advance(0.6)  # in the first single support
+    state = graph['states'].messages[-1]
+    assert state.phase == WalkingState.SINGLE_SUPPORT
+    # the middle of the single support two steps later (0.3 + 0.1 s steps)
+    stop_time = stamp_of(state) - state.time_in_phase + 2 * 0.4 + 0.15
+    assert send(graph, command=WalkCommand.STOP, start_time=stop_time).accepted
+    graph['states'].messages.clear()
+    run(graph, 2.0, every=0.05)
+    states = graph['states'].messages
+    idle = [s for s in states if s.phase == WalkingState.IDLE]
+    assert idle, 'the scheduled stop did not end the walk'
+    before = [s for s in states if stamp_of(s) < stop_time]
+    assert before and all(s.phase != WalkingState.IDLE and not s.stop_requested
+                          for s in before), 'the walk stopped before the stated time'
+    # as a STOP arriving at stop_time: the step under way then is finished, then Idle
+    at_stop = next(s for s in states if stamp_of(s) >= stop_time)
+    assert at_stop.phase == WalkingState.SINGLE_SUPPORT and at_stop.stop_requested
+    assert idle[0].step_index == at_stop.step_index + 1  # as test_stop_finishes_the_step...
+
+
+def test_a_command_before_a_scheduled_stop_drops_it(graph):
+    send(graph, command=WalkCommand.START)
+    graph['clock'].advance(0.6)
+    now = stamp_of(graph['states'].messages[-1])
+    assert send(graph, command=WalkCommand.STOP, start_time=now + 0.5).accepted
+    assert send(graph, command=WalkCommand.START).accepted  # walk on: the stop is dropped
+    run(graph, 1.5, every=0.05)
+    assert all(s.phase != WalkingState.IDLE for s in graph['states'].messages[-10:])
+
+
+@pytest.mark.parametrize('start_time, words', [
+    (math.nan, 'start_time must be a finite time'),
+    (-1.0, 'start_time must be a finite time'),
+    (1e6, 'more than 60 s'),
+])
+def test_a_stop_with_a_bad_start_time_is_refused_and_the_walk_goes_on(graph, start_time,
+                                                                       words):
+    send(graph, command=WalkCommand.START)
+    graph['clock'].advance(0.6)
+    status = send(graph, command=WalkCommand.STOP, start_time=start_time)
+    assert status.error_code == CommandStatus.INVALID_VALUE and words in status.error_msg
+    run(graph, 0.5, every=0.05)
+    assert graph['states'].messages[-1].phase != WalkingState.IDLE

@@ -17,8 +17,8 @@ import numpy as np
 from biped_tools.graph_session import STEPPING
 from biped_tools.scenarios.sweep import grid, largest_completing
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
-                                         stated_start, stop_walking, SWEEP_LIMITS, Trial,
-                                         write_result)
+                                         stated_start, STOP_LEAD, stop_walking, SWEEP_LIMITS,
+                                         Trial, write_result)
 
 STEP_TIME = 0.6     # s, the configured gait (0.4 single + 0.2 double support)
 DURATION = 36.0     # s of walk: 4 s of walking in place after the last change
@@ -71,11 +71,11 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
                     step_angle=value[2], start_time=walk0 + at))
                 sent['count'] += 1
             sent['value'] = setpoint(t - walk0, scale)
-            return t - walk0 >= duration
+            return t - walk0 >= duration - STOP_LEAD
 
         completed = drive(session, on_time, walk0 + duration + 5.0 - session.sim_time(), progress,
                           lambda: f'setpoint {sent["value"]}')
-        stood = stop_walking(session) if completed else False
+        stood = stop_walking(session, at=walk0 + duration) if completed else False
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     at_end = sample_at(series.pelvis, walk0 + duration)

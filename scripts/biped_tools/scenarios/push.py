@@ -13,7 +13,7 @@ from typing import List
 import numpy as np
 
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
-                                         stop_walking, Trial, write_result)
+                                         STOP_LEAD, stop_walking, Trial, write_result)
 
 TIMING = (0.3, 0.1)      # s: the paper's 0.4 s step
 FIRST_PUSH = 4.0         # s after the walk start: past the initial shift, into steady stepping
@@ -77,8 +77,8 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
         times, unanswered = schedule_pushes(session, schedule, first_single, direction)
         schedule = schedule[:len(times)]
         end = times[-1] + DURATION + RECOVERY
-        drive(session, lambda t: t >= end, end - session.sim_time() + 1.0, progress)
-        stood = stop_walking(session) if not session.fallen() else False
+        drive(session, lambda t: t >= end - STOP_LEAD, end - session.sim_time() + 1.0, progress)
+        stood = stop_walking(session, at=end) if not session.fallen() else False
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     t_fall = None if result['fall_time_s'] is None else result['fall_time_s'] + sim0

@@ -200,12 +200,20 @@ def drive(session: GraphSession, on_time: Callable[[float], bool], sim_duration:
     return state['done'] and not session.fallen()
 
 
-def stop_walking(session: GraphSession, timeout_sim: float = 5.0) -> bool:
-    """STOP, then wait for Idle (True) or a fall (False)."""
+STOP_LEAD = 0.5  # s: a stated STOP is sent this long before its time (the state machine holds it)
+
+
+def stop_walking(session: GraphSession, timeout_sim: float = 5.0,
+                 at: Optional[float] = None) -> bool:
+    """STOP, then wait for Idle (True) or a fall (False).
+
+    :param at: sim time the stop applies at (WalkCommand.start_time), so that a trial ends the
+        same way on a quiet and a loaded machine; None: when it arrives
+    """
     if session.fallen():
         return False
-    session.send_command(command=WalkCommand.STOP)
-    end = session.sim_time() + timeout_sim
+    session.send_command(command=WalkCommand.STOP, start_time=0.0 if at is None else at)
+    end = max(session.sim_time(), at or 0.0) + timeout_sim
     session.spin_until(lambda: session.phase() == IDLE or session.fallen() or
                        session.sim_time() >= end, 20.0 * timeout_sim + 30.0)
     session.wait_sim_time(0.5, 30.0)

@@ -98,6 +98,7 @@ class StateMachineNode(Node):
         self._watch = InputWatch(STREAMS, (PLAN,), self.get_parameter('input_timeout').value,
                                  '/clock' if sim_time else None, ('odom',))
         self._stale = ()
+        self._scheduled_stop = None  # (sim time, WalkCommand) of a STOP with a start_time
         self._teleop = TeleopGate()  # the walk cmd_vel drives, and its timeout
         self._odometry = PoseStream('odom', self.get_parameter('odom_frame').value)
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
@@ -196,12 +197,23 @@ class StateMachineNode(Node):
             return
         self._publish_transitions(self._machine.update(now), now)
         kind = command.kind
+        self._drop_scheduled_stop(f'command {kind} came first')
         if kind == CommandKind.RESET:
             ok, text = self._reset_all()
             self._answer(kind, CommandStatus.OK if ok else CommandStatus.NOT_ALLOWED,
                          '' if ok else text)
         elif kind == CommandKind.STOP:
-            self._publish_transitions(self._stop(now, 'stop requested', msg), now)
+            try:
+                stop_time = start_time_of(msg.start_time, now)
+            except CommandError as error:
+                self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
+                return
+            if stop_time > now and self._walking():
+                # a scripted trial's stop: applied at its stated time, as if it arrived then
+                self._scheduled_stop = (stop_time, msg)
+                self.get_logger().info(f'STOP scheduled for t={stop_time:.3f} s')
+            else:
+                self._publish_transitions(self._stop(now, 'stop requested', msg), now)
             self._answer(kind, CommandStatus.OK)
         else:
             try:
@@ -435,6 +447,12 @@ class StateMachineNode(Node):
             self._publish_transitions(self._machine.report_fall(now, reason), now)
 
     # --- reset ------------------------------------------------------------------------------
+    def _drop_scheduled_stop(self, why: str) -> None:
+        if self._scheduled_stop is not None:
+            self.get_logger().info(f'scheduled STOP for t={self._scheduled_stop[0]:.3f} s '
+                                   f'dropped: {why}')
+            self._scheduled_stop = None
+
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
         response.success, response.message = self._reset_all()
         return response
@@ -480,6 +498,12 @@ class StateMachineNode(Node):
         now = self._now()
         transitions = self._machine.update(now)
         self._publish_transitions(transitions, now)
+        if self._scheduled_stop is not None and now >= self._scheduled_stop[0]:
+            _, command = self._scheduled_stop
+            self._scheduled_stop = None
+            if self._walking():
+                transitions = self._stop(now, 'scheduled stop', command)
+                self._publish_transitions(transitions, now)
         if not transitions and (self._last_publish is None or now < self._last_publish or
                                 now - self._last_publish >= self._publish_period):
             self._publish(self._machine.status, now)
