@@ -572,3 +572,15 @@ def test_a_stop_with_a_bad_start_time_is_refused_and_the_walk_goes_on(graph, sta
     assert status.error_code == CommandStatus.INVALID_VALUE and words in status.error_msg
     run(graph, 0.5, every=0.05)
     assert graph['states'].messages[-1].phase != WalkingState.IDLE
+
+
+def test_a_refused_stop_keeps_the_scheduled_one(graph):
+    send(graph, command=WalkCommand.START)
+    graph['clock'].advance(0.6)
+    state = graph['states'].messages[-1]
+    stop_time = stamp_of(state) - state.time_in_phase + 0.4 + 0.15
+    assert send(graph, command=WalkCommand.STOP, start_time=stop_time).accepted
+    refused = send(graph, command=WalkCommand.STOP, start_time=math.nan)
+    assert refused.error_code == CommandStatus.INVALID_VALUE
+    run(graph, 1.5, every=0.05)
+    assert graph['states'].messages[-1].phase == WalkingState.IDLE

@@ -197,7 +197,6 @@ class StateMachineNode(Node):
             return
         self._publish_transitions(self._machine.update(now), now)
         kind = command.kind
-        self._drop_scheduled_stop(f'command {kind} came first')
         if kind == CommandKind.RESET:
             ok, text = self._reset_all()
             self._answer(kind, CommandStatus.OK if ok else CommandStatus.NOT_ALLOWED,
@@ -208,6 +207,7 @@ class StateMachineNode(Node):
             except CommandError as error:
                 self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
                 return
+            self._drop_scheduled_stop('a new STOP came')
             if stop_time > now and self._walking():
                 # a scripted trial's stop: applied at its stated time, as if it arrived then
                 self._scheduled_stop = (stop_time, msg)
@@ -223,6 +223,7 @@ class StateMachineNode(Node):
             except CommandError as error:
                 self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
                 return
+            self._drop_scheduled_stop(f'a {kind.name} command came')
             self._request_walk(now, kind, RequestKind.COMMAND, start_time=start_time,
                                command=msg)
 
