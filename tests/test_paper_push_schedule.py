@@ -14,8 +14,8 @@ class PushService:
     def __init__(self, answers):
         self.answers, self.requests = list(answers), []
 
-    def push(self, fx, duration, at):
-        self.requests.append((fx, duration, at))
+    def push(self, fx, fy=0.0, duration=0.1, at=None):  # GraphSession.push's signature
+        self.requests.append((fx, fy, duration, at))
         answer = self.answers.pop(0)
         if answer is None:
             raise TimeoutError('the push service did not answer in 30 s')
@@ -26,7 +26,8 @@ def test_every_push_starts_a_whole_number_of_steps_after_the_first_single_suppor
     service = PushService([True] * 3)
     times, unanswered = schedule_pushes(service, [80.0, 100.0, 120.0], 11.1, -1.0)
     assert unanswered is None
-    assert [fx for fx, _, _ in service.requests] == [-80.0, -100.0, -120.0]
+    assert [(fx, fy) for fx, fy, _, _ in service.requests] == \
+        [(-80.0, 0.0), (-100.0, 0.0), (-120.0, 0.0)]
     for k, at in enumerate(times):
         steps = (at - PUSH_PHASE - 11.1) / STEP
         assert steps == pytest.approx(round(steps), abs=1e-9)

@@ -12,8 +12,9 @@ from typing import List
 
 import numpy as np
 
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
-                                         STOP_LEAD, stop_walking, Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
+                                         request_push, stated_start, STOP_LEAD, stop_walking,
+                                         Trial, write_result)
 
 TIMING = (0.3, 0.1)      # s: the paper's 0.4 s step
 FIRST_PUSH = 4.0         # s after the walk start: past the initial shift, into steady stepping
@@ -49,14 +50,10 @@ def schedule_pushes(session, schedule: List[float], first_single: float,
     times = []
     for k, force in enumerate(schedule):
         at = first_single + step * round((FIRST_PUSH + k * INTERVAL) / step) + PUSH_PHASE
-        try:
-            applied = session.push(direction * force, duration=DURATION, at=at)
-        except TimeoutError as error:
-            times.append(at)
-            return times, str(error)
-        if not applied:
-            raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
         times.append(at)
+        unanswered = request_push(session, force, direction * force, 0.0, at, DURATION)
+        if unanswered is not None:
+            return times, unanswered
     return times, None
 
 

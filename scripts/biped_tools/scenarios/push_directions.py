@@ -22,8 +22,8 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from biped_tools.graph_session import stamp_seconds
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
-                                         Trial, write_result)
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
+                                         request_push, stated_start, Trial, write_result)
 
 TIMING = (0.3, 0.1)       # s: the paper's push scenario
 DURATION = 0.1            # s
@@ -204,14 +204,9 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
             at = next_push_time(now - state.time_in_phase, state.phase_duration,
                                 SUPPORT_NAMES[state.support_foot], phase,
                                 max(earliest, session.sim_time() + LEAD))
-            try:
-                applied = session.push(force * math.cos(angle), force * math.sin(angle),
-                                       duration=DURATION, at=at)
-            except TimeoutError as error:
-                # it may have been applied: watched as if it was, and the last of the trial
-                applied, unanswered = True, str(error)
-            if not applied:
-                raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
+            # a lost answer: watched as if applied, and the last push of the trial
+            unanswered = request_push(session, force, force * math.cos(angle),
+                                      force * math.sin(angle), at, DURATION)
             pushes.append({'force_n': force, 'at_s': round(at - sim0, 3)}
                           | ({} if unanswered is None else {'answered': False}))
             end = at + DURATION + interval - 1.0

@@ -220,6 +220,24 @@ def stop_walking(session: GraphSession, timeout_sim: float = 5.0,
     return session.phase() == IDLE and not session.fallen()
 
 
+def request_push(session: GraphSession, force: float, fx: float, fy: float, at: float,
+                 duration: float) -> Optional[str]:
+    """Ask the simulator for a pelvis push (fx, fy) (N) at sim time at; force, its magnitude
+    as the trial's schedule names it (N), is for the messages.
+
+    :return: None when scheduled; the error when the answer was lost (the push may have been
+        scheduled, so a trial watches it as if it was and asks for none after it)
+    :raises RuntimeError: the simulator refused it
+    """
+    try:
+        applied = session.push(fx, fy, duration=duration, at=at)
+    except TimeoutError as error:
+        return str(error)
+    if not applied:
+        raise RuntimeError(f'push of {force} N at t={at:.2f} s refused')
+    return None
+
+
 def fall_time(session: GraphSession) -> Optional[float]:
     fallen = [s[0] for s in session.series.states if s[3]]
     return fallen[0] if fallen else None

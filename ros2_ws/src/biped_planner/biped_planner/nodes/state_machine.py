@@ -354,6 +354,12 @@ class StateMachineNode(Node):
             self._call_planner(request, command=command)
         return transitions
 
+    def _drop_scheduled_stop(self, why: str) -> None:
+        if self._scheduled_stop is not None:
+            self.get_logger().info(f'scheduled STOP for t={self._scheduled_stop[0]:.3f} s '
+                                   f'dropped: {why}')
+            self._scheduled_stop = None
+
     # --- plans ------------------------------------------------------------------------------
     def _on_plan(self, msg: FootstepPlan) -> None:
         now = self._now()
@@ -448,12 +454,6 @@ class StateMachineNode(Node):
             self._publish_transitions(self._machine.report_fall(now, reason), now)
 
     # --- reset ------------------------------------------------------------------------------
-    def _drop_scheduled_stop(self, why: str) -> None:
-        if self._scheduled_stop is not None:
-            self.get_logger().info(f'scheduled STOP for t={self._scheduled_stop[0]:.3f} s '
-                                   f'dropped: {why}')
-            self._scheduled_stop = None
-
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
         response.success, response.message = self._reset_all()
         return response
