@@ -49,6 +49,37 @@ def overrides(settings) -> dict:
     return groups
 
 
+def cell(args, robot, params, adjuster, limits, forces, direction, phase) -> float:
+    """The largest force of the ladder walked through at one direction and phase (N)."""
+    def simulator():
+        # a fresh simulator per trial: PyBullet's contact state carries over a reset, and a
+        # cell's figure depended on the trials run before it
+        return PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
+
+    if args.schedule:
+        backend = simulator()
+        try:
+            return push_trial.run_push_schedule(
+                backend, WalkingController(params), robot.controller_model, forces,
+                math.radians(direction), phase, adjuster, limits,
+                step_length=GAITS[args.gait]).largest_withstood
+        finally:
+            backend.close()
+    best = 0.0
+    for force in forces:
+        backend = simulator()
+        try:
+            trial = push_trial.run_push_trial(
+                backend, WalkingController(params), robot.controller_model, force,
+                math.radians(direction), phase, adjuster, limits, step_length=GAITS[args.gait])
+        finally:
+            backend.close()
+        if trial.fallen:
+            break
+        best = force
+    return best
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--adjustment', choices=('on', 'off'), default='on')
@@ -58,6 +89,9 @@ def main() -> None:
                         help='deg from +x towards +y')
     parser.add_argument('--phases', default=','.join(push_trial.PHASES))
     parser.add_argument('--forces', default='80,110,140,170,200,230', help='N, in order')
+    parser.add_argument('--schedule', action='store_true',
+                        help="one walk per cell pushed every 3 s with the growing forces, as "
+                             "the graph's push-directions does (default: a fresh walk per force)")
     parser.add_argument('settings', nargs='*', help='GROUP.NAME=VALUE')
     args = parser.parse_args()
     settings = overrides(args.settings)
@@ -72,7 +106,8 @@ def main() -> None:
                 if args.adjustment == 'on' else None)
     limits = replace(push_trial.HUMANOID_STEP_LIMITS, **settings['qp'])
     wall = time.monotonic()
-    print(f'three_mass, {args.gait.replace("_", " ")}, adjustment {args.adjustment}, settings '
+    print(f'three_mass, {args.gait.replace("_", " ")}, adjustment {args.adjustment}, '
+          f'{"one walk pushed every 3 s" if args.schedule else "a fresh walk per force"}, settings '
           f'{args.settings or "default"}: largest push walked through (N)\n')
     print('| direction | ' + ' | '.join(phases) + ' |')
     print('|---|' + '---|' * len(phases))
@@ -80,22 +115,7 @@ def main() -> None:
     for direction in directions:
         row = []
         for phase in phases:
-            best = 0.0
-            for force in forces:
-                # a fresh simulator per trial: PyBullet's contact state carries over a reset,
-                # and a cell's figure depended on the trials run before it
-                backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
-                try:
-                    trial = push_trial.run_push_trial(
-                        backend, WalkingController(params), robot.controller_model, force,
-                        math.radians(direction), phase, adjuster, limits,
-                        step_length=GAITS[args.gait])
-                finally:
-                    backend.close()
-                if trial.fallen:
-                    break
-                best = force
-            row.append(best)
+            row.append(cell(args, robot, params, adjuster, limits, forces, direction, phase))
         withstood += row
         print(f'| {direction:.0f} deg | ' + ' | '.join(f'{f:.0f}' for f in row) + ' |',
               flush=True)

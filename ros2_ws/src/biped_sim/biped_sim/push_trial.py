@@ -41,6 +41,12 @@ T_START = 0.5
 PUSH_DURATION = 0.1
 FIRST_PUSH_AFTER = 2.0   # s: the push falls in the first step of its phase after this
 RECOVERY = 1.5           # s walked after the push ends; the falls seen came within 1.2 s
+# The graph's push-directions schedule (biped_tools.scenarios.push_directions, the README's
+# command): the first push 3 s into the walk, then one every SCHEDULE_INTERVAL s, each watched
+# until 1 s before the next would start.
+SCHEDULE_FIRST_PUSH = 3.0
+SCHEDULE_INTERVAL = 3.0
+SCHEDULE_LOOKAHEAD = 1.0  # s: a push is placed from the plan this long before it
 # phase name: (support of the phase, push start after the phase start (s))
 PHASES = {
     'early_single': (SUPPORT_RIGHT, 0.25 * TIMING.single_support),
@@ -87,6 +93,24 @@ class PushTrialResult:
     adjuster_times: np.ndarray
 
 
+@dataclass(frozen=True)
+class PushScheduleResult:
+    """What a push schedule measured.
+
+    :param forces: the forces pushed, in order (N), the first fall's last
+    :param push_times: start of each push (s)
+    :param fall_time: when the robot fell (s), NaN without a fall
+    :param largest_withstood: the largest force walked through before a fall (N), 0 for none
+    :param revisions: plan revisions the step adjuster made (0 without it)
+    """
+
+    forces: tuple
+    push_times: tuple
+    fall_time: float
+    largest_withstood: float
+    revisions: int
+
+
 def walk_reference(step_length: float = 0.0, n_steps: int = 16) -> WalkingReference:
     """The straight walk of the push trials: n_steps steps of step_length (m) from T_START."""
     return WalkingReference(straight_footsteps(n_steps, step_length, STEP_WIDTH), TIMING,
@@ -118,6 +142,85 @@ def push_start(reference, phase: str, after: float = FIRST_PUSH_AFTER) -> float:
                 candidate.support == support:
             return float(candidate.t_begin) + delay
     raise ConfigError(f'no {phase} phase after {after} s in the plan')
+
+
+def _adjusted_source(reference, robot, adjuster, step_limits, measured_zmp=False, clock=None,
+                     times=None):
+    """(source, on_cycle): the reference as the step adjuster replans it from the measured DCM."""
+    qp = replace(step_limits, com_height=REFERENCE.com_height)
+    source = AdjustedWalk(reference, OnlineStepAdjuster(adjuster, qp))
+    measured = MeasuredDcm(robot)
+
+    def observe(t, window, output, readings):
+        com, dcm = measured.update(readings.time, readings.joints.position[:12],
+                                   readings.base.position, readings.base.orientation)
+        zmp = readings.zmp if measured_zmp else None
+        if clock is None:
+            source.adjust(readings.time, com, dcm, zmp)
+            return
+        begin = clock()
+        source.adjust(readings.time, com, dcm, zmp)
+        times.append(clock() - begin)
+
+    return source, observe
+
+
+def run_push_schedule(backend, controller, robot, forces, direction: float, phase: str,
+                      adjuster: Optional[OnlineStepAdjusterParams] = None,
+                      step_limits: StepAdjustmentParams = HUMANOID_STEP_LIMITS,
+                      step_length: float = 0.0,
+                      interval: float = SCHEDULE_INTERVAL) -> PushScheduleResult:
+    """One walk pushed again and again, as the graph's push-directions trial does.
+
+    The forces are pushed in order, one every `interval` s from SCHEDULE_FIRST_PUSH s into the
+    walk, each at the first phase of its kind at or after its due time in the plan as it is
+    SCHEDULE_LOOKAHEAD s before (the adjuster may have moved touchdowns), until a fall. A push is
+    walked through when the robot still stands 1 s before the next is due. Unlike
+    run_push_trial, the robot meets each push as the earlier ones left it.
+
+    :param forces: push magnitudes in order (N), each finite and >= 0
+    :param interval: s between the due times of two pushes, > SCHEDULE_LOOKAHEAD
+    :return: the schedule's outcome
+    :raises ConfigError: for a bad force, an unknown phase or a too short interval
+    """
+    forces = tuple(float(f) for f in forces)
+    if not forces or not all(math.isfinite(f) and f >= 0.0 for f in forces):
+        raise ConfigError(f'forces must be finite and >= 0 (N), got {forces!r}')
+    if not math.isfinite(interval) or interval <= SCHEDULE_LOOKAHEAD + PUSH_DURATION:
+        raise ConfigError(f'interval must exceed {SCHEDULE_LOOKAHEAD + PUSH_DURATION} s, got '
+                          f'{interval!r}')
+    walk_time = SCHEDULE_FIRST_PUSH + interval * (len(forces) + 1)
+    step_time = TIMING.single_support + TIMING.double_support
+    reference = walk_reference(step_length, int(math.ceil(walk_time / step_time)) + 2)
+    source, on_cycle = reference, None
+    if adjuster is not None and adjuster.enabled:
+        source, on_cycle = _adjusted_source(reference, robot, adjuster, step_limits)
+    runner = ClosedLoopRunner(backend, controller, source)
+    runner.reset()
+    pushed, times, withstood = [], [], 0.0
+    due = T_START + SCHEDULE_FIRST_PUSH
+    for force in forces:
+        runner.run(max(due - SCHEDULE_LOOKAHEAD - backend.time, 0.0), on_cycle=on_cycle)
+        plan = source.reference if isinstance(source, AdjustedWalk) else reference
+        start = push_start(plan, phase, after=max(due, backend.time + 0.1))
+        runner.push(ExternalPush(force=(force * math.cos(direction),
+                                        force * math.sin(direction), 0.0),
+                                 duration=PUSH_DURATION, start_time=start))
+        pushed.append(force)
+        times.append(start)
+        due = start + interval
+        log = runner.run(due + PUSH_DURATION - SCHEDULE_LOOKAHEAD - backend.time,
+                         on_cycle=on_cycle)
+        if log.fallen:
+            return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
+                                      withstood, _revisions(source))
+        withstood = max(withstood, force)
+    return PushScheduleResult(tuple(pushed), tuple(times), math.nan, withstood,
+                              _revisions(source))
+
+
+def _revisions(source) -> int:
+    return source.revision if isinstance(source, AdjustedWalk) else 0
 
 
 def run_push_trial(backend, controller, robot, force: float, direction: float, phase: str,
@@ -152,22 +255,8 @@ def run_push_trial(backend, controller, robot, force: float, direction: float, p
     on_cycle = None
     times = []
     if adjuster is not None and adjuster.enabled:
-        qp = replace(step_limits, com_height=REFERENCE.com_height)
-        source = AdjustedWalk(reference, OnlineStepAdjuster(adjuster, qp))
-        measured = MeasuredDcm(robot)
-
-        def observe(t, window, output, readings):
-            com, dcm = measured.update(readings.time, readings.joints.position[:12],
-                                       readings.base.position, readings.base.orientation)
-            zmp = readings.zmp if measured_zmp else None
-            if clock is None:
-                source.adjust(readings.time, com, dcm, zmp)
-                return
-            begin = clock()
-            source.adjust(readings.time, com, dcm, zmp)
-            times.append(clock() - begin)
-
-        on_cycle = observe
+        source, on_cycle = _adjusted_source(reference, robot, adjuster, step_limits,
+                                            measured_zmp, clock, times)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
     runner.push(push)
@@ -176,6 +265,6 @@ def run_push_trial(backend, controller, robot, force: float, direction: float, p
     final = source.reference if isinstance(source, AdjustedWalk) else reference
     return PushTrialResult(
         fallen, float(log.fall_time) if fallen else math.nan, push,
-        source.revision if isinstance(source, AdjustedWalk) else 0,
+        _revisions(source),
         tuple(source.history) if isinstance(source, AdjustedWalk) else (), final, log,
         np.array(times))

@@ -8,8 +8,8 @@ from biped_mpc.walking_controller import WalkingController, WalkingControllerPar
 from biped_planner.sides import SUPPORT_RIGHT
 from biped_sim.errors import ConfigError
 from biped_sim.push_trial import (HUMANOID_ADJUSTER, HUMANOID_STEP_LIMITS, PHASES, push_start,
-                                  run_push_trial, TIMING, walk_in_place_reference,
-                                  walk_reference)
+                                  run_push_schedule, run_push_trial, SCHEDULE_FIRST_PUSH,
+                                  T_START, TIMING, walk_in_place_reference, walk_reference)
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 
@@ -66,6 +66,36 @@ def test_push_starts_in_its_phase(phase):
         assert support == SUPPORT_RIGHT and delay == pytest.approx(0.075)
 
 
+def schedule(robot, forces, interval=3.0):
+    sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
+    try:
+        controller = WalkingController(WalkingControllerParams(
+            robot=robot.controller_model, balance='stabilizer', swing_target='planned'))
+        return run_push_schedule(sim, controller, robot.controller_model, forces, 0.0,
+                                 'early_single', interval=interval)
+    finally:
+        sim.close()
+
+
+def test_a_schedule_pushes_at_its_phase_every_interval_until_a_fall(robot):
+    calm = schedule(robot, (0.0, 0.0, 0.0), interval=2.0)
+    assert math.isnan(calm.fall_time)
+    assert calm.largest_withstood == 0.0 and calm.forces == (0.0, 0.0, 0.0)
+    times = np.array(calm.push_times)
+    assert times[0] >= T_START + SCHEDULE_FIRST_PUSH
+    # each push is due `interval` after the one before, and meets the next right single support
+    step = TIMING.single_support + TIMING.double_support
+    assert np.all(np.diff(times) >= 2.0 - 1e-9) and np.all(np.diff(times) < 2.0 + 2 * step)
+    plan = walk_reference(0.0, 40)
+    delay = PHASES['early_single'][1]
+    assert all(push_start(plan, 'early_single', after=t - delay - 1e-6) == pytest.approx(t)
+               for t in times)
+    # a push no robot withstands ends the schedule: the force before it is the figure
+    felled = schedule(robot, (40.0, 2000.0, 40.0), interval=2.0)
+    assert felled.forces == (40.0, 2000.0) and felled.largest_withstood == 40.0
+    assert felled.push_times[1] < felled.fall_time < felled.push_times[1] + 2.0
+
+
 def test_bad_trials_are_rejected():
     with pytest.raises(ConfigError):
         push_start(walk_in_place_reference(), 'mid_air')
@@ -73,6 +103,10 @@ def test_bad_trials_are_rejected():
         push_start(walk_in_place_reference(4), 'double', after=100.0)
     with pytest.raises(ConfigError):
         run_push_trial(None, None, None, -1.0, 0.0, 'double')
+    with pytest.raises(ConfigError):
+        run_push_schedule(None, None, None, (80.0, math.nan), 0.0, 'double')
+    with pytest.raises(ConfigError):
+        run_push_schedule(None, None, None, (80.0,), 0.0, 'double', interval=1.0)
 
 
 def graph_defaults(prefix: str) -> dict:
