@@ -55,6 +55,16 @@ def test_on_the_paper_tiles_the_robot_starts_on_them_and_its_fall_is_reported(tm
 
 
 # --- the sweep's search, against an exhaustive scan (no graph) -----------------------------
+def test_a_terrain_run_that_crosses_stops_at_a_stated_time_after_the_exit(tmp_path):
+    # flat "tiles" (height 0 is not built): the success path of the scenario, its final STOP
+    # stated from the first pelvis sample past the exit rather than applied when seen
+    result = terrain.run(trial(tmp_path, 'terrain', 'flat'), 100, seed=1, side=1.0,
+                         heights=(0.0, 0.0))
+    assert result['success'] and not result['fallen']
+    assert result['distance_m'] >= 1.0 - terrain.BEHIND + terrain.EXIT_MARGIN
+    assert result['stop_stated_s'] is not None and result['stop_stated_s'] < result['simulated_s']
+
+
 @pytest.mark.parametrize('threshold', [None, 0.08, 0.12, 0.2, 0.25])
 def test_bisection_finds_the_largest_completing_value(threshold):
     values = grid(0.08, 0.25, 0.01)

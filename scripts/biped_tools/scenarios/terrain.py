@@ -13,7 +13,7 @@ import numpy as np
 
 from biped_sim.terrain_trial import PAPER_BEHIND, PAPER_SIDE
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, stated_start,
-                                         stop_walking, Trial, write_result)
+                                         STOP_AFTER_ARRIVAL, stop_walking, Trial, write_result)
 
 SIDE = PAPER_SIDE       # m, the library's paper_terrain too: the same tiles for a seed
 BEHIND = PAPER_BEHIND   # m of tiles behind the robot's start: it starts on them (paper)
@@ -50,7 +50,12 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0
         crossed = drive(session, lambda t: session.series.pelvis[-1][1] >= exit_x, budget,
                         progress)
-        stood = stop_walking(session) if crossed else False
+        stood, result_stop = False, None
+        if crossed:
+            # stated from the first pelvis sample past the exit, not from when it was seen
+            t_exit = next(sample[0] for sample in session.series.pelvis if sample[1] >= exit_x)
+            result_stop = t_exit + STOP_AFTER_ARRIVAL
+            stood = stop_walking(session, at=result_stop)
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     pelvis = np.array(series.pelvis)
@@ -61,6 +66,7 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
     result.update({'tile_area_cm2': area_cm2, 'side_m': side, 'seed': seed,
                    'heights_m': list(heights),
                    'step_length_m': step_length, 'distance_m': round(reached, 3),
+                   'stop_stated_s': None if result_stop is None else round(result_stop - sim0, 3),
                    'terrain_fraction_crossed': round(float(np.clip(
                        (reached + BEHIND) / side, 0.0, 1.0)), 3)})
     result['success'] = bool(crossed and stood and not result['fallen'])
