@@ -340,6 +340,24 @@ class GraphSession:
         self.wait_for_nodes_on('/goal_pose', COMMAND_LISTENERS)
         self.goal_pub.publish(msg)
 
+    def plan_answering(self, send: Callable[[], None], retries: int = 5):
+        """Send a goal (send() publishes it) and return the plan that answers it, None when
+        none came. The planner serves plan_walk once it knows the robot's pose; the map can
+        come a moment later (both latched): a goal before it is refused with NO_MAP, and is
+        sent again 0.5 s later, up to retries times."""
+        from biped_msgs.msg import FootstepPlan
+        plan = None
+        for _ in range(retries):
+            count = len(self.series.plans)
+            send()
+            self.spin_until(lambda: len(self.series.plans) > count, 20.0)
+            plan = self.series.plans[-1] if len(self.series.plans) > count else None
+            if plan is None or plan.error_code != FootstepPlan.ERROR_NO_MAP:
+                return plan
+            self.log('[session] the planner has no map yet: goal sent again in 0.5 s')
+            self.spin_until(lambda: False, 0.5)
+        return plan
+
     def wait_for_command_listeners(self) -> None:
         """Wait until every node that takes walk commands subscribes to walk_command."""
         self.wait_for_nodes_on('/walk_command', COMMAND_LISTENERS)

@@ -14,7 +14,7 @@ from pathlib import Path
 import statistics
 import time
 
-from biped_msgs.msg import FootstepPlan, WalkCommand
+from biped_msgs.msg import WalkCommand
 
 from biped_tools.graph_session import GraphSession, IDLE
 from biped_tools.paths import PAPER_MAP
@@ -52,22 +52,13 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
         t0 = session.sim_time()
         log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
         start_time = stated_start_time(t0)
-        plan = None
-        for _ in range(NO_MAP_RETRIES):
-            count = len(session.series.plans)
-            if stated:
-                session.send_command(command=WalkCommand.GOTO, goal_x=goal.x, goal_y=goal.y,
-                                     goal_yaw=goal.yaw, start_time=start_time)
-            else:
-                session.send_goal(goal.x, goal.y, goal.yaw)
-            session.spin_until(lambda: len(session.series.plans) > count, 20.0)
-            plan = session.series.plans[-1] if len(session.series.plans) > count else None
-            # the planner serves plan_walk once it knows the robot's pose; the map can come a
-            # moment later (both latched): a goal before it is refused with NO_MAP
-            if plan is None or plan.error_code != FootstepPlan.ERROR_NO_MAP:
-                break
-            log('[demo] the planner has no map yet: goal sent again in 0.5 s')
-            session.spin_until(lambda: False, 0.5)
+        if stated:
+            plan = session.plan_answering(lambda: session.send_command(
+                command=WalkCommand.GOTO, goal_x=goal.x, goal_y=goal.y, goal_yaw=goal.yaw,
+                start_time=start_time), NO_MAP_RETRIES)
+        else:
+            plan = session.plan_answering(lambda: session.send_goal(goal.x, goal.y, goal.yaw),
+                                          NO_MAP_RETRIES)
         if plan is None or plan.status != 0:
             raise RuntimeError(f'planning failed: {plan.error_msg if plan else "no plan"}')
         walked = session.spin_until(lambda: session.phase() not in (None, IDLE), 20.0)
