@@ -6,7 +6,8 @@ reference's initial shift, single and double supports line up with the state mac
 (given the same durations). A plan that changes while walking (teleop extension, a stop's closing
 step) is spliced in with WalkingReference.extend from its first changed footstep. An extension
 that names when it applies (the planner's own, from the phase that asked for it) waits for that
-time, so the splice does not depend on when the message arrived. Between walks the last
+time (the planner's plan after a step adjustment too, from the adjustment's time; changes
+wait in time order), so the splice does not depend on when the message arrived. Between walks the last
 reference holds its final standing pose. With an online step adjuster, the step under
 way moves (location and touchdown) when the measured DCM asks for it: the session's reference is
 then the adjusted one, and the adjustment is returned for the rest of the graph to follow.
@@ -192,10 +193,12 @@ class ReferenceSession:
         return 'stored'
 
     def apply_due(self, t: float) -> Optional[str]:
-        """Splice a waiting plan change whose time came (before the window of t is taken).
+        """Splice the waiting plan changes whose times came, oldest first (before the window of
+        t is taken).
 
-        :return: what was done ('extended', 'unchanged'), None when nothing was due
-        :raises ConfigError: when the change no longer fits the reference (dropped)
+        :return: what the last splice did ('extended', 'unchanged'), None when nothing was due
+        :raises ConfigError: when a change no longer fits the reference (dropped; later ones
+            wait for the next call)
         """
         done = None
         while self._changes_due and self._changes_due[0][0] <= t:

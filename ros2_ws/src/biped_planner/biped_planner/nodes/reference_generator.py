@@ -86,9 +86,9 @@ from biped_planner.walking_state_machine import WALKING_PHASES
 WATCH_PERIOD = 0.1  # s of wall time between checks that walking_state still comes
 DIAGNOSTICS_PERIOD = 1.0  # s of wall time
 MAX_STAMP_LEAD = 1.0  # s: a joint command or walk start farther ahead of the clock is refused
-# s of wall time the reference after a joint command waits for the balance_estimate of the same
-# period, when the one of the period before came: the controller sends it first, but DDS does
-# not order two topics, and on a loaded machine it can come second (the step adjuster would
+# s of wall time a reference waits for the balance_estimate of the period before it, when the
+# one of the period before that came: the controller sends it before its joint command, but DDS
+# does not order two topics, and on a loaded machine it can come second (the step adjuster would
 # then answer it a period later in one run than in another)
 ESTIMATE_WAIT = 0.02
 
