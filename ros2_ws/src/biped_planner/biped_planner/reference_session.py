@@ -7,8 +7,8 @@ reference's initial shift, single and double supports line up with the state mac
 step) is spliced in with WalkingReference.extend from its first changed footstep. An extension
 that names when it applies (the planner's own, from the phase that asked for it) waits for that
 time (the planner's plan after a step adjustment too, from the adjustment's time; changes
-wait in time order), so the splice does not depend on when the message arrived. Between walks the last
-reference holds its final standing pose. With an online step adjuster, the step under
+wait in time order), so the splice does not depend on when the message arrived. Between walks
+the last reference holds its final standing pose. With an online step adjuster, the step under
 way moves (location and touchdown) when the measured DCM asks for it: the session's reference is
 then the adjusted one, and the adjustment is returned for the rest of the graph to follow.
 """
