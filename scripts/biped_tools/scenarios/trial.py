@@ -201,9 +201,9 @@ def drive(session: GraphSession, on_time: Callable[[float], bool], sim_duration:
 
 
 STOP_LEAD = 0.5  # s: a stated STOP is sent this long before its time (the state machine holds it)
-# s of sim time after the sample that ends a trial's walk (a lap swept, a terrain crossed) at
-# which its STOP applies: the runner sees that sample some wall time later, and a STOP stated
-# by the sample's stamp ends the walk at the same sim time on a quiet and a loaded machine
+# s of sim time after the sample that ends a trial's walk (a terrain crossed) at which its STOP
+# applies: the runner sees that sample some wall time later, and a STOP stated by the sample's
+# stamp ends the walk at the same sim time on a quiet and a loaded machine
 STOP_AFTER_ARRIVAL = 1.0
 
 
