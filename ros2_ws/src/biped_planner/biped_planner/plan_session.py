@@ -109,10 +109,9 @@ class PlanSession:
         """A step adjuster moved the landing of step step_index (and the later landings with
         it): plan on from where that foot lands.
 
-        A goal walk is planned anew to its goal from the step after the adjusted landing,
-        which keeps its translated landing (the translated later landings would end the walk
-        off the goal by the adjustment); when no path is found from there, the translated
-        landings are kept. A teleop walk steps on from the
+        A goal walk is planned anew from the adjusted landing to its goal (the translated
+        later landings would end the walk off the goal by the adjustment); when no path is
+        found from there, the translated landings are kept. A teleop walk steps on from the
         adjusted footsteps; a stopping walk keeps them.
 
         :param plan_id: the adjusted plan; another plan's adjustment changes nothing
@@ -134,12 +133,8 @@ class PlanSession:
         self._footsteps = list(footsteps)
         if self._mode == PlanMode.GOTO and self._goal is not None:
             astar, goal = self._goal
-            # the step after the adjusted one keeps its translated landing: it can start before
-            # the new plan is spliced in (the reference generator's extension_delay after the
-            # adjustment), so the new plan changes only the steps after it
-            kept = min(landing + 2, len(footsteps))
             try:
-                plan = self._planner.plan_from_footsteps(astar, footsteps[:kept], goal)
+                plan = self._planner.plan_from_footsteps(astar, footsteps[:landing + 1], goal)
             except PlanningError:
                 return self._update()
             self._footsteps = list(plan.footsteps)
