@@ -385,6 +385,9 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
     # the planner republishes the adjusted plan, same id
     republished = latest_plan(g, count=plans)
     assert republished.plan_id == first.plan_id
+    # stamped with the adjustment (spliced in, and awaited in lockstep, at that time plus
+    # extension_delay), not with when the planner handled it
+    assert republished.header.stamp == adjusted.header.stamp and republished.request_id == 0
     assert republished.footsteps[adjusted.step_index + 2].y == pytest.approx(landing.y)
     # the references carry it
     g['clock'].advance(0.1, pace=2.0)

@@ -180,7 +180,7 @@ def test_in_lockstep_a_reference_waits_for_the_extension_due_by_its_time(gen):
     token = LivelinessToken(g['client'], 'footstep_plan')  # a planner in this process
     plan = continuous_walk(g)
     # the moving test clock is no lockstep: the steps so far were walked without a wait
-    passed = [float(re.search(r'step from t=([0-9.]+) s', line).group(1))
+    passed = [float(re.search(r'extension stamped t=([0-9.]+) s', line).group(1))
               for line in g['rosout'].lines if 'without the planner' in line]
     assert passed, 'no extension was due while the clock ran'
     due = round(max(passed) + 0.6, 3)  # the next step's start (0.4 + 0.2 s steps)
@@ -188,7 +188,7 @@ def test_in_lockstep_a_reference_waits_for_the_extension_due_by_its_time(gen):
     count = len(g['refs'].messages)
     held_clock_command(g, t)
     assert spin_until(g['executor'], lambda: g['rosout'].has(
-        f'step from t={due:.3f} s', 'waits'), 5.0)
+        f'extension stamped t={due:.3f} s', 'waits'), 5.0)
     spin_until(g['executor'], lambda: False, 0.5)
     assert not [m for m in g['refs'].messages[count:]
                 if abs(stamp_seconds(m) - (t + 0.02)) < 1e-6], 'sent without the extension'
@@ -210,7 +210,7 @@ def test_an_extension_that_does_not_come_is_waited_for_once_not_at_every_step(ge
     g = gen_short_wait
     token = LivelinessToken(g['client'], 'footstep_plan')
     continuous_walk(g)
-    passed = [float(re.search(r'step from t=([0-9.]+) s', line).group(1))
+    passed = [float(re.search(r'extension stamped t=([0-9.]+) s', line).group(1))
               for line in g['rosout'].lines if 'without the planner' in line]
     due = round(max(passed) + 0.6, 3)
     t = round(due + 0.36, 2)
@@ -218,14 +218,14 @@ def test_an_extension_that_does_not_come_is_waited_for_once_not_at_every_step(ge
     held_clock_command(g, t)
     assert spin_until(g['executor'], lambda: any(
         abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
-    assert g['rosout'].has(f'step from t={due:.3f} s', 'did not come in 0.3 s')
+    assert g['rosout'].has(f'extension stamped t={due:.3f} s', 'did not come in 0.3 s')
     t_next = round(t + 0.6, 2)  # the next step's extension is due too, and not waited for
     count = len(g['refs'].messages)
     held_clock_command(g, t_next)
     assert spin_until(g['executor'], lambda: any(
         abs(stamp_seconds(m) - (t_next + 0.02)) < 1e-6 for m in g['refs'].messages[count:]),
         0.25), 'waited again'
-    assert not g['rosout'].has(f'step from t={due + 0.6:.3f} s', 'waits')
+    assert not g['rosout'].has(f'extension stamped t={due + 0.6:.3f} s', 'waits')
     del token
 
 

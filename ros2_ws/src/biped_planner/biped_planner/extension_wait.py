@@ -5,7 +5,10 @@ stamps the extension with that step's start; the reference generator splices it 
 extension delay. In lockstep nothing else waits for the planner: on a loaded machine an
 extension could come after its splice time and be spliced later, which changes the run. The
 generator therefore holds the reference of a time by which an extension is due until the
-extension has come (or the planner is gone). Pure Python, time is an argument.
+extension has come (or the planner is gone). The same holds for the plan the planner publishes
+after a step adjustment (any walk: a teleop walk steps on from the adjusted landing, a goal walk
+is planned anew to its goal), stamped with the adjustment's time. Pure Python, time is an
+argument.
 """
 from typing import Optional, Sequence
 
@@ -16,22 +19,33 @@ STAMP_TOLERANCE = 0.03  # s: the state machine's phase start and the reference's
 
 
 def awaited_extension(phases: Sequence, t: float, delay: float,
-                      newest_extension: Optional[float]) -> Optional[float]:
-    """The start of the latest step whose extension is due by t and has not come.
+                      newest_extension: Optional[float], continuous: bool = True,
+                      adjusted: Sequence[float] = (),
+                      adjusted_delay: Optional[float] = None) -> Optional[float]:
+    """The stamp of the latest extension due by t that has not come: a step's start, or a
+    step adjustment's time.
 
     :param phases: the reference's phases (ReferencePhase), in time order
     :param t: the time of the reference about to go out (s)
-    :param delay: how long after a step's start its extension is spliced in (s)
+    :param delay: how long after its stamp an extension is spliced in (s)
     :param newest_extension: stamp of the newest extension received for this plan (s), None
         when none has come
-    :return: that step's start (s), None when nothing is awaited
+    :param continuous: the planner extends the walk at each step (a teleop walk)
+    :param adjusted: times of this plan's step adjustments (s)
+    :param adjusted_delay: how long after an adjustment the planner's plan after it is spliced
+        in (s); None: delay
+    :return: that stamp (s), None when nothing is awaited
     """
     due = None
-    for phase in phases:
+    for phase in phases if continuous else ():
         if phase.t_begin + delay > t:
             break
         if phase.kind == PHASE_SINGLE_SUPPORT and phase.step_index >= FIRST_EXTENDED_STEP:
             due = phase.t_begin
+    after = delay if adjusted_delay is None else adjusted_delay
+    due_adjusted = max((a for a in adjusted if a + after <= t), default=None)
+    if due_adjusted is not None and (due is None or due_adjusted > due):
+        due = due_adjusted
     if due is None or (newest_extension is not None and
                        newest_extension >= due - STAMP_TOLERANCE):
         return None

@@ -6,14 +6,15 @@ reference's initial shift, single and double supports line up with the state mac
 (given the same durations). A plan that changes while walking (teleop extension, a stop's closing
 step) is spliced in with WalkingReference.extend from its first changed footstep. An extension
 that names when it applies (the planner's own, from the phase that asked for it) waits for that
-time, so the splice does not depend on when the message arrived. Between walks the last
-reference holds its final standing pose. With an online step adjuster, the step under
+time (the planner's plan after a step adjustment too, from the adjustment's time; changes
+wait in time order), so the splice does not depend on when the message arrived. Between walks
+the last reference holds its final standing pose. With an online step adjuster, the step under
 way moves (location and touchdown) when the measured DCM asks for it: the session's reference is
 then the adjusted one, and the adjustment is returned for the rest of the graph to follow.
 """
 from dataclasses import dataclass
 import math
-from typing import Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
@@ -96,7 +97,11 @@ class ReferenceSession:
         self._reference_plan_id: Optional[int] = None
         self._walk_start: Optional[float] = None
         self._last_walked_plan_id: Optional[int] = None
-        self._extension_due: Optional[float] = None  # when self._plan extends the walk
+        # (when, plan) of the walked plan's changes not yet spliced in, oldest first
+        self._changes_due: List[Tuple[float, _Plan]] = []
+        # (index, footstep) of the adjuster's newest landing: a plan of the planner without it
+        # was made before that move and would undo it
+        self._adjusted: Optional[Tuple[int, Footstep]] = None
 
     @property
     def reference(self) -> Optional[WalkingReference]:
@@ -144,6 +149,8 @@ class ReferenceSession:
         self._reference = output.reference
         self._adjustments += 1
         swing = swing_step_at(before, t)
+        index = swing.step + 2
+        self._adjusted = (index, output.reference.footsteps[index])
         planned_dcm = swing.reference_dcm(t)
         return AppliedAdjustment(self.plan_id, output.revision, swing.step,
                                  swing.lift_off + output.adjustment.duration, swing.touchdown,
@@ -167,40 +174,53 @@ class ReferenceSession:
         """A footstep plan arrived.
 
         :param t_now: the latest time whose reference may already be out (s)
-        :param apply_at: when an extension of the walked plan (its footsteps, then more)
-            applies (s): the splice waits for the first window at or after it (apply_due)
-            instead of t_now, so the reference is the same whenever the plan arrived before
-            then. None, a time not after t_now, or another change: applied at t_now
-        :return: what was done ('stored', 'built', 'extended', 'unchanged', 'queued')
+        :param apply_at: when a change of the walked plan (the planner's extension, or its
+            plan after a step adjustment) applies (s): the splice waits for the first window at
+            or after it (apply_due) instead of t_now, so the reference is the same whenever the
+            plan arrived before then; changes wait in the order of their times. None or a time
+            not after t_now: applied at t_now, and the waiting changes are dropped
+        A change of the walked plan without the adjuster's newest landing (the planner made it
+        before it learnt of that move) is dropped, here and when its time comes: spliced in, it
+        would undo the move; the planner's plan after the move follows.
+
+        :return: what was done ('stored', 'built', 'extended', 'unchanged', 'queued',
+            'superseded')
         :raises ConfigError: when the plan cannot be used (malformed, or it changes steps that
             have already started); the current reference is kept
         """
+        if self._walk_start is not None and plan_id == self._reference_plan_id and \
+                not self._has_newest_adjustment(footsteps):
+            return 'superseded'
         self._plan = _Plan(plan_id, tuple(footsteps), timing)
-        self._extension_due = None  # a plan is the whole list: a newer one replaces a waiting one
+        if self._walk_start is not None and plan_id == self._reference_plan_id and \
+                apply_at is not None and apply_at > t_now:
+            self._changes_due.append((float(apply_at), self._plan))
+            self._changes_due.sort(key=lambda change: change[0])
+            return 'queued'
+        self._changes_due = []  # a plan is the whole list: it replaces the waiting changes
         if self._walk_start is not None and self._reference_plan_id is None:
             self._build()
             return 'built'
         if self._walk_start is not None and plan_id == self._reference_plan_id:
-            if apply_at is not None and apply_at > t_now and \
-                    appends_to(self._reference.footsteps, self._plan.footsteps):
-                self._extension_due = float(apply_at)
-                return 'queued'
             return self._splice(self._plan.footsteps, timing, t_now)
         return 'stored'
 
     def apply_due(self, t: float) -> Optional[str]:
-        """Splice a waiting plan change whose time came (before the window of t is taken).
+        """Splice the waiting plan changes whose times came, oldest first (before the window of
+        t is taken).
 
-        :return: what was done ('extended', 'unchanged'), None when nothing was due
-        :raises ConfigError: when the change no longer fits the reference (dropped)
+        :return: what the last splice did ('extended', 'unchanged'), None when nothing was due
+        :raises ConfigError: when a change no longer fits the reference (dropped; later ones
+            wait for the next call)
         """
-        due = self._extension_due
-        if due is None or t < due:
-            return None
-        self._extension_due = None
-        if self._walk_start is None or self._plan.plan_id != self._reference_plan_id:
-            return None
-        return self._splice(self._plan.footsteps, self._plan.timing, due)
+        done = None
+        while self._changes_due and self._changes_due[0][0] <= t:
+            due, plan = self._changes_due.pop(0)
+            if self._walk_start is None or plan.plan_id != self._reference_plan_id or \
+                    not self._has_newest_adjustment(plan.footsteps):
+                continue
+            done = self._splice(plan.footsteps, plan.timing, due)
+        return done
 
     def start_walk(self, walk_start: float) -> bool:
         """The state machine started a walk at walk_start (idempotent).
@@ -211,7 +231,7 @@ class ReferenceSession:
             return self._reference_plan_id is not None
         self._walk_start = walk_start
         self._reference_plan_id = None
-        self._extension_due = None
+        self._changes_due, self._adjusted = [], None
         if self._plan is not None and self._plan.plan_id != self._last_walked_plan_id:
             self._build()
             return True
@@ -220,7 +240,7 @@ class ReferenceSession:
     def end_walk(self) -> None:
         """The robot stands again; the reference keeps holding its final pose."""
         self._walk_start = None
-        self._extension_due = None
+        self._changes_due, self._adjusted = [], None
 
     def window(self, t: float, n: int, dt: float,
                standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:
@@ -253,6 +273,12 @@ class ReferenceSession:
         if self._adjuster is not None:
             self._adjuster.reset()
 
+    def _has_newest_adjustment(self, footsteps: Sequence[Footstep]) -> bool:
+        if self._adjusted is None:
+            return True
+        index, landing = self._adjusted
+        return len(footsteps) > index and footsteps[index] == landing
+
     def _splice(self, footsteps: Tuple[Footstep, ...], timing: StepTiming, t_now: float) -> str:
         old = self._reference.footsteps
         first_change = next((i for i, (a, b) in enumerate(zip(old, footsteps)) if a != b),
@@ -265,7 +291,3 @@ class ReferenceSession:
                                                  replace_from=first_change)
         return 'extended'
 
-
-def appends_to(footsteps: Sequence[Footstep], longer: Sequence[Footstep]) -> bool:
-    """:return: whether longer is footsteps with more steps after them"""
-    return len(longer) > len(footsteps) and tuple(longer[:len(footsteps)]) == tuple(footsteps)

@@ -39,3 +39,38 @@ def test_after_the_last_step_the_last_one_stays_awaited_until_its_extension_come
     last = single_support_starts(reference)[-1]
     assert awaited_extension(reference.phases, reference.t_end + 5.0, DELAY, None) == last
     assert awaited_extension(reference.phases, reference.t_end + 5.0, DELAY, last) is None
+
+
+def test_a_step_adjustment_is_awaited_from_its_time_plus_the_delay_in_any_walk():
+    reference = in_place_reference()
+    starts = single_support_starts(reference)
+    adjusted = starts[3] + 0.1   # the adjuster moved step 3 a tenth into its single support
+    # a goal walk (not continuous) awaits no step's extension, only the adjustment's replan
+    assert awaited_extension(reference.phases, starts[4] + DELAY, DELAY, None, False) is None
+    assert awaited_extension(reference.phases, adjusted + DELAY - 0.001, DELAY, None, False,
+                             [adjusted]) is None
+    assert awaited_extension(reference.phases, adjusted + DELAY, DELAY, None, False,
+                             [adjusted]) == adjusted
+    # the replan stamped with the adjustment ends the wait, an older extension does not
+    assert awaited_extension(reference.phases, adjusted + DELAY, DELAY, adjusted, False,
+                             [adjusted]) is None
+    assert awaited_extension(reference.phases, adjusted + DELAY, DELAY, starts[3], True,
+                             [adjusted]) == adjusted
+    # a second adjustment does not hide the first one's replan, due before it
+    second = adjusted + 0.04
+    assert awaited_extension(reference.phases, adjusted + DELAY, DELAY, None, False,
+                             [adjusted, second]) == adjusted
+    assert awaited_extension(reference.phases, second + DELAY, DELAY, adjusted, False,
+                             [adjusted, second]) == second
+    # a teleop walk: whichever is later is awaited, the next step's start once it is due
+    t = starts[4] + DELAY
+    assert awaited_extension(reference.phases, t, DELAY, adjusted, True, [adjusted]) == starts[4]
+
+
+def test_an_adjustment_replan_is_awaited_after_its_own_delay():
+    reference = in_place_reference()
+    adjusted = single_support_starts(reference)[3] + 0.1
+    assert awaited_extension(reference.phases, adjusted + 0.039, DELAY, None, False,
+                             [adjusted], 0.04) is None
+    assert awaited_extension(reference.phases, adjusted + 0.04, DELAY, None, False,
+                             [adjusted], 0.04) == adjusted

@@ -81,6 +81,37 @@ def test_the_session_moves_the_step_under_way_and_reports_what_moved():
     assert ReferenceSession(ReferenceParams()).adjust(1.6, hip, dcm) is None  # no adjuster
 
 
+def test_a_planner_change_without_the_newest_adjusted_landing_is_dropped_not_spliced():
+    """The planner's plans made before it learnt of the adjuster's newest move would undo the
+    move: dropped on arrival, and when queued before the move, at their time."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+    from biped_planner.step_timing import StepTiming
+    steps = straight_footsteps(6, 0.1, 0.2)
+    timing = StepTiming(0.4, 0.1)
+    bare = OnlineStepAdjusterParams(dcm_deadband=0.0, ankle_authority=0.0,
+                                    location_threshold=1e-6, timing_threshold=1e-6)
+    session = ReferenceSession(ReferenceParams(), OnlineStepAdjuster(bare))
+    session.set_plan(7, steps[:7], timing, 0.0)
+    session.start_walk(0.0)
+    longer = straight_footsteps(7, 0.1, 0.2)  # the planner's extension, made before the move
+    assert session.set_plan(7, longer, timing, 1.55, apply_at=1.9) == 'queued'
+    hip, dcm = session.reference.lipm.state_at(1.6)
+    adjustment = session.adjust(1.6, hip, dcm + [0.0, -0.05])
+    moved = adjustment.footsteps
+    assert moved[3] != longer[3]
+    assert session.apply_due(2.0) is None  # its time came after the move: dropped
+    assert tuple(session.reference.footsteps) == moved
+    assert session.set_plan(7, longer, timing, 1.62, apply_at=1.9) == 'superseded'
+    # the planner's plan after the move carries the moved landing: spliced in at its time
+    replan = moved + tuple(longer[len(moved):])
+    assert session.set_plan(7, replan, timing, 1.62, apply_at=1.64) == 'queued'
+    assert session.apply_due(1.64) == 'extended'
+    assert tuple(session.reference.footsteps) == replan
+
+
 def test_an_estimate_far_from_the_plan_is_refused_not_answered():
     from biped_planner.errors import InputError
     from biped_planner.footsteps import straight_footsteps
@@ -166,7 +197,7 @@ def test_an_extension_that_comes_after_its_time_applies_on_arrival():
         np.testing.assert_array_equal(stated_late[t].hip, on_arrival[t].hip)
 
 
-def test_a_newer_plan_replaces_a_waiting_extension():
+def test_a_newer_plan_replaces_waiting_changes_which_otherwise_apply_in_time_order():
     from biped_planner.footsteps import straight_footsteps
     from biped_planner.reference_params import ReferenceParams
     from biped_planner.reference_session import ReferenceSession
@@ -180,9 +211,17 @@ def test_a_newer_plan_replaces_a_waiting_extension():
     assert session.set_plan(1, steps, timing, 1.2) == 'extended'  # a user's change: at once
     assert session.apply_due(2.4) is None
     assert len(session.reference.footsteps) == len(steps)
-    # a change that is not an append (a later landing moved) is never held back
+    # a change that is not an append (a later landing moved: the planner's goal walk after a
+    # step adjustment) waits for its time too, and changes apply in the order of their times
     moved = list(steps)
     moved[-1] = dataclasses.replace(steps[-1], x=steps[-1].x - 0.05)
-    assert session.set_plan(1, moved, timing, 1.3, apply_at=2.3) == 'extended'
+    further = list(moved)
+    further[-1] = dataclasses.replace(steps[-1], x=steps[-1].x - 0.08)
+    assert session.set_plan(1, further, timing, 1.3, apply_at=2.5) == 'queued'
+    assert session.set_plan(1, moved, timing, 1.31, apply_at=2.3) == 'queued'
+    assert session.apply_due(2.29) is None and session.reference.footsteps[-1] == steps[-1]
+    assert session.apply_due(2.3) == 'extended'
     assert session.reference.footsteps[-1] == moved[-1]
+    assert session.apply_due(2.6) == 'extended'
+    assert session.reference.footsteps[-1] == further[-1]
     assert session.set_plan(2, steps[:8], timing, 1.4, apply_at=2.3) == 'stored'

@@ -259,7 +259,9 @@ class FootstepPlannerNode(Node):
         if update.path:
             self._path_pub.publish(path_msg(update.path, self._frame,
                                             self.get_clock().now().to_msg()))
-        self._publish(update)
+        # stamped with the adjustment, not with when it was handled: the reference generator
+        # splices it in (and in lockstep waits for it) at that time + its extension_delay
+        self._publish(update, stamp=msg.header.stamp)
 
     # --- the plan_walk service --------------------------------------------------------------
     def _on_plan_walk(self, request: PlanWalk.Request, response: PlanWalk.Response):

@@ -23,13 +23,16 @@ reference of that period is sent at once, while physics runs, instead of at its 
 a tick whose reference has not gone out that way (no controller yet) still sends it.
 
 The planner's own extension of a walk (request_id 0) is stamped with the start of the step that
-asked for it and spliced in from the first reference at or after stamp + extension_delay, so a
-run does not depend on when the message got through; one that comes later is spliced in at
-once and logged as late. On sim time the reference of a time by which a continuous walk's
-extension is due waits for it (biped_planner.extension_wait; the controller and, in lockstep,
-the simulator wait with it) while the planner's process is alive (DDS liveliness of
-footstep_plan/alive), at most extension_wait s of wall time, and not once the clock has passed
-that time (a simulator in real time).
+asked for it, and its plan after a step adjustment with the adjustment's time; each is spliced
+in from the first reference at or after stamp + extension_delay, in the order of their times,
+so a run does not depend on when the message got through; one that comes later is spliced in at
+once and logged as late. The reference of period t answers the balance_estimate of t - 1 and no
+later one (see _answer_balance_estimates). On sim time the reference of a time by which a
+continuous walk's extension is due (and any walk's, after a step adjustment) waits for it
+(biped_planner.extension_wait; the controller and, in lockstep, the simulator wait with it)
+while the planner's process is alive (DDS liveliness of footstep_plan/alive), at most
+extension_wait s of wall time, and not once the clock has passed that time (a simulator in
+real time).
 
 A new walking_state.epoch (the state machine reset the robot) drops the walk, its plan and the
 standing feet: the references stand where the controller's sole_poses put the feet again. An
@@ -67,7 +70,7 @@ from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.qos import LATCHED_IN
 from biped_planner.node_support.reference_messages import reference_trajectory_msg
 from biped_planner.node_support.rejection_log import RejectionLog
-from biped_planner.node_support.stamps import seconds_of
+from biped_planner.node_support.stamps import nanoseconds_of, seconds_of
 from biped_planner.node_support.walking_state_checks import walking_state_problem
 from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_poses,
                                              footstep_msgs, footsteps_from_msgs)
@@ -83,12 +86,18 @@ from biped_planner.walking_state_machine import WALKING_PHASES
 WATCH_PERIOD = 0.1  # s of wall time between checks that walking_state still comes
 DIAGNOSTICS_PERIOD = 1.0  # s of wall time
 MAX_STAMP_LEAD = 1.0  # s: a joint command or walk start farther ahead of the clock is refused
+# s of wall time a reference waits for the balance_estimate of the period before it, when the
+# one of the period before that came: the controller sends it before its joint command, but DDS
+# does not order two topics, and on a loaded machine it can come second (the step adjuster would
+# then answer it a period later in one run than in another)
+ESTIMATE_WAIT = 0.02
 
 
 class ExtensionWait(NamedTuple):
-    """A reference held for the planner's extension of the step starting at step_start."""
+    """A reference held for the planner's extension stamped `stamp` (a step start or a step
+    adjustment's time)."""
 
-    step_start: float  # s
+    stamp: float  # s
     since: Optional[float]  # wall time the wait began; None: given up, the walk goes on
     held_ns: int  # the newest reference time held
     first_ns: int  # the first one: a clock past it runs on without this node (no lockstep)
@@ -122,6 +131,10 @@ class ReferenceGeneratorNode(Node):
                                 'applies this long after the stamp of the step that asked for '
                                 'it, whenever it arrives before then: runs do not depend on '
                                 'message timing (s)', (0.0, 5.0)),
+            'adjustment_replan_delay': (0.04, "the planner's plan after a step adjustment "
+                                        'applies this long after the adjustment: before the '
+                                        'next step starts, so that step is not changed while it '
+                                        'is walked (s)', (0.0, 1.0)),
             'extension_wait': (2.0, "on sim time, how long (s of wall time) a reference waits "
                                "for the planner's extension due by its time while the planner "
                                'is alive; 0: never waits', (0.0, 60.0))},
@@ -157,6 +170,9 @@ class ReferenceGeneratorNode(Node):
         self._planner_process = LivelinessWatch(self, 'footstep_plan')
         self._continuous = False  # the newest plan used is a teleop plan the planner extends
         self._newest_extension = None  # (plan_id, stamp s) of the planner's newest extension
+        self._adjustments = (None, [])  # (plan_id, stamps s) of this node's adjustments
+        self._estimate_ns = -1  # stamp of the newest balance_estimate answered (ns)
+        self._later_estimates = []  # taken before their reference: answered with it
         self._waiting: Optional[ExtensionWait] = None
         # an extension did not come in extension_wait: no more waits until one comes in time
         # (a live but hung planner would otherwise cost that much wall time at every step)
@@ -195,9 +211,33 @@ class ReferenceGeneratorNode(Node):
             self._balance_reader.destroy()
         super().destroy_node()
 
-    def _answer_balance_estimates(self) -> None:
-        if self._balance_reader is not None:
-            for msg in self._balance_reader.take_all():
+    def _answer_balance_estimates(self, expected_ns: int) -> None:
+        """Answer the estimates stamped up to expected_ns (the period before the reference's),
+        first waiting (ESTIMATE_WAIT at most) for the one stamped expected_ns if the one of the
+        period before came; a later one (the controller can estimate the next period before
+        this reference goes out) waits for the next reference."""
+        reader = self._balance_reader
+        if reader is None:
+            return
+        messages = self._later_estimates + reader.take_all()
+
+        def arrived() -> bool:
+            return any(nanoseconds_of(m.header.stamp) >= expected_ns for m in messages)
+        if self._estimate_ns == expected_ns - self._period_ns and not arrived():
+            deadline = time.monotonic() + ESTIMATE_WAIT
+            while not arrived() and time.monotonic() < deadline:
+                time.sleep(0.0002)
+                messages += reader.take_all()
+        # the controller's next periods wait; any other stamp is answered (or refused) now
+        horizon = expected_ns + 2 * self._period_ns
+
+        def later(msg) -> bool:
+            return expected_ns < nanoseconds_of(msg.header.stamp) <= horizon
+        self._later_estimates = [m for m in messages if later(m)]
+        for msg in messages:
+            if not later(msg):
+                self._estimate_ns = max(self._estimate_ns,
+                                        min(nanoseconds_of(msg.header.stamp), expected_ns))
                 self._on_balance(msg)
 
     def _on_balance(self, msg: BalanceEstimate) -> None:
@@ -234,6 +274,14 @@ class ReferenceGeneratorNode(Node):
         msg.header.stamp = stamp
         msg.header.frame_id = self._frame
         self._adjustment_pub.publish(msg)
+        # the planner republishes the plan stamped with it: awaited as an extension
+        plan_id, stamps = self._adjustments
+        if plan_id != adjustment.plan_id:
+            stamps = []
+        newest = self._newest_extension
+        replanned = newest[1] if newest is not None and newest[0] == adjustment.plan_id else None
+        self._adjustments = (adjustment.plan_id, [t for t in stamps if replanned is None or
+                                                  t > replanned] + [seconds_of(stamp)])
         landing = adjustment.footsteps[adjustment.step_index + 2]
         self.get_logger().info(
             f'step {adjustment.step_index} adjusted (plan {adjustment.plan_id}, revision '
@@ -254,14 +302,14 @@ class ReferenceGeneratorNode(Node):
             check_footsteps(footsteps, self._bounds.workspace,
                             self.get_parameter('max_footstep_distance').value)
             timing = StepTiming(msg.single_support, msg.double_support)
-            apply_at = None
+            apply_at = stamp = None
             t_out = max(self._now(), (self._sent_ns or 0) * 1e-9)  # newest reference sent
             if msg.request_id == 0:  # the planner's own extension, stamped with its step
                 # this node's clock can lag the planner's by a period or two (its /clock
                 # callback not yet run): only a stamp farther ahead is not believed
                 stamp = seconds_of(msg.header.stamp)
                 apply_at = (stamp if stamp <= self._now() + MAX_STAMP_LEAD else self._now()) + \
-                    self.get_parameter('extension_delay').value
+                    self._change_delay(msg.plan_id, stamp)
             done = self._session.set_plan(msg.plan_id, footsteps, timing, t_out, apply_at)
         except (BipedPlannerError, ValueError) as error:
             self._reject('footstep_plan', f'plan {msg.plan_id} not used: {error}')
@@ -314,6 +362,8 @@ class ReferenceGeneratorNode(Node):
         """The robot was reset: no walk, no plan, stand where the controller puts the feet."""
         self._epoch = epoch
         self._session = self._new_session()
+        self._adjustments = (None, [])
+        self._estimate_ns, self._later_estimates = -1, []  # the clock went back
         self._standing = None
         self._soles_seen = False
         self._subscribe_soles()
@@ -361,23 +411,34 @@ class ReferenceGeneratorNode(Node):
             self.destroy_subscription(self._soles_sub)
             self._soles_sub = None
 
+    def _change_delay(self, plan_id: int, stamp: float) -> float:
+        """How long after its stamp the planner's change of a plan applies (s): its plan after
+        one of this node's step adjustments soon, its extension at a step's start later."""
+        adjusted_plan, adjusted = self._adjustments
+        if adjusted_plan == plan_id and any(abs(stamp - a) < 1e-6 for a in adjusted):
+            return self.get_parameter('adjustment_replan_delay').value
+        return self.get_parameter('extension_delay').value
+
     def _awaits_extension(self, t_ns: int) -> bool:
         """Whether the reference of t_ns must wait for the planner's extension (see module)."""
         limit = self.get_parameter('extension_wait').value
         reference = self._session.reference
         clock = self.get_clock()
-        if limit <= 0.0 or reference is None or not self._continuous or \
-                not clock.ros_time_is_active or self._planner_behind:
+        if limit <= 0.0 or reference is None or not clock.ros_time_is_active or \
+                self._planner_behind:
             return False
-        newest = self._newest_extension
+        plan_id = self._session.plan_id
+        newest, (adjusted_plan, adjusted) = self._newest_extension, self._adjustments
         due = awaited_extension(
             reference.phases, t_ns * 1e-9, self.get_parameter('extension_delay').value,
-            newest[1] if newest is not None and newest[0] == self._session.plan_id else None)
+            newest[1] if newest is not None and newest[0] == plan_id else None,
+            self._continuous, adjusted if adjusted_plan == plan_id else (),
+            self.get_parameter('adjustment_replan_delay').value)
         waiting = self._waiting
         if due is None:
             self._waiting = None
             return False
-        if waiting is not None and waiting.step_start == due:
+        if waiting is not None and waiting.stamp == due:
             if not waiting.holding:
                 return False  # given up on already
             why = None
@@ -391,18 +452,19 @@ class ReferenceGeneratorNode(Node):
                 self._waiting = waiting._replace(held_ns=max(t_ns, waiting.held_ns))
                 return True
             self.get_logger().warning(
-                f"the step from t={due:.3f} s is walked without the planner's extension: {why} "
+                f"walking on without the planner's extension stamped t={due:.3f} s: {why} "
                 '(this run may differ from another)')
             self._waiting = waiting._replace(since=None, held_ns=t_ns)
             return False
         if not (self._planner_process.alive_count > 0 or self._planner_process.local):
             self.get_logger().warning(
-                f"no planner alive: the step from t={due:.3f} s is walked without its extension",
+                f"no planner alive: walking on without its extension stamped t={due:.3f} s",
                 throttle_duration_sec=5.0)
             self._waiting = ExtensionWait(due, None, t_ns, t_ns)
             return False
         self.get_logger().info(f'reference of t={t_ns * 1e-9:.3f} s waits for the planner\'s '
-                               f'extension for the step from t={due:.3f} s')
+                               f'extension stamped t={due:.3f} s (a step start or a step '
+                               'adjustment)')
         self._waiting = ExtensionWait(due, time.monotonic(), t_ns, t_ns)
         return True
 
@@ -415,10 +477,12 @@ class ReferenceGeneratorNode(Node):
             self._send(waiting.held_ns)
 
     def _send(self, t_ns: int) -> None:
-        """Publish the reference from t_ns (ns of the node's clock), if there is one."""
+        """Publish the reference from t_ns (ns of the node's clock), if there is one, after the
+        balance estimate of the period before (_answer_balance_estimates): whichever comes
+        first, the controller's command or the simulator's clock, sends it."""
         if self._awaits_extension(t_ns):
             return
-        self._answer_balance_estimates()
+        self._answer_balance_estimates(t_ns - self._period_ns)
         try:
             if self._session.apply_due(t_ns * 1e-9) == 'extended':
                 self.get_logger().info(f'plan {self._session.plan_id}: extended at '
@@ -445,7 +509,7 @@ class ReferenceGeneratorNode(Node):
         if not clock.ros_time_is_active:
             return
         stamp = msg.header.stamp
-        t_ns = stamp.sec * 1_000_000_000 + stamp.nanosec + self._period_ns
+        t_ns = nanoseconds_of(stamp) + self._period_ns
         if t_ns > clock.now().nanoseconds + int(MAX_STAMP_LEAD * 1e9):
             self._reject('joint_commands', f'stamp {stamp.sec}.{stamp.nanosec:09d} s is ahead '
                          f'of the clock')
@@ -501,8 +565,8 @@ class ReferenceGeneratorNode(Node):
                                                    value=','.join(self._stale)),
                                           KeyValue(key='step_adjustments',
                                                    value=str(self._session.adjustments)),
-                                          KeyValue(key='waiting_for_extension_of_step_at',
-                                                   value=f'{self._waiting.step_start:.3f}'
+                                          KeyValue(key='waiting_for_extension_stamped',
+                                                   value=f'{self._waiting.stamp:.3f}'
                                                    if self._waiting is not None and
                                                    self._waiting.holding else '')])
         msg = DiagnosticArray(status=[status])
