@@ -62,6 +62,15 @@ def test_parameters_given_with_p_reach_every_trial_of_a_scenario(tmp_path):
     assert second.overrides['simulator'] == ['sole_contact_stiffness:=0.0']
 
 
+def test_node_logs_are_printed_with_node_log_and_dropped_without(capsys, tmp_path):
+    from biped_tools.scenarios.command import build_parser, trials_for
+    for argv, shown in ((['disk', '--out', str(tmp_path)], False),
+                        (['disk', '--out', str(tmp_path), '--node-log'], True)):
+        trial = trials_for(build_parser().parse_args(argv), 'lipm')('disk', '0.15')
+        trial.node_log('[reference_generator] [INFO] plan 1: built')
+        assert ('plan 1: built' in capsys.readouterr().out) == shown
+
+
 def test_the_summary_refuses_p_rather_than_ignoring_it(capsys):
     from biped_tools.scenarios.command import main
     with pytest.raises(SystemExit) as exit_info:

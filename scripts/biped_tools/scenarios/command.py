@@ -40,6 +40,9 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument('--domain-id', type=int, default=50,
                         help='first ROS domain; trials use the next ones (up to +9)')
     common.add_argument('--no-bag', action='store_true', help='do not record bags')
+    common.add_argument('--node-log', action='store_true',
+                        help="print the nodes' log lines, prefixed with the node's name "
+                        '(not in summary)')
     common.add_argument('-p', '--param', action='append', default=[],
                         metavar='NODE:NAME:=VALUE', help='override one parameter of a node of '
                         'every trial, as in bringup.py (e.g. mpc_controller:balance:=stabilizer)')
@@ -93,7 +96,8 @@ def log(line: str) -> None:
 
 def trials_for(args, model: str) -> TrialFactory:
     return TrialFactory(args.out, model, args.domain_id, record=not args.no_bag, log=log,
-                        overrides=parse_overrides(args.param))
+                        overrides=parse_overrides(args.param),
+                        node_log=log if getattr(args, 'node_log', False) else None)
 
 
 def run_scenario(args) -> int:

@@ -83,9 +83,11 @@ class TrialFactory:
 
     def __init__(self, out: Path, model: str, domain_base: int, record: bool = True,
                  log: Callable[[str], None] = print,
-                 overrides: Optional[Dict[str, List[str]]] = None) -> None:
+                 overrides: Optional[Dict[str, List[str]]] = None,
+                 node_log: Optional[Callable[[str], None]] = None) -> None:
+        """:param node_log: where the nodes' log lines go; None: dropped"""
         self.out, self.model, self.domain_base = out, model, domain_base
-        self.record, self.log = record, log
+        self.record, self.log, self.node_log = record, log, node_log
         self.overrides = {node: list(values) for node, values in (overrides or {}).items()}
         self.count = 0
 
@@ -94,7 +96,8 @@ class TrialFactory:
         return Trial(scenario, self.model, setting, self.out,
                      self.domain_base + self.count % 10, record=self.record,
                      overrides={node: list(values) for node, values in self.overrides.items()},
-                     log=self.log)
+                     log=self.log, **({} if self.node_log is None else
+                                      {'node_log': self.node_log}))
 
 
 def graph_overrides(model: str, start=(0.0, 0.0, 0.0), timing: Optional[tuple] = None,
