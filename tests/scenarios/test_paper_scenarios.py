@@ -109,6 +109,25 @@ def test_disk_steering_follows_the_tangent_and_corrects_the_radius():
     assert steering.command((0.0, 1.8 - 2.3), 0.0)[2] > turn
 
 
+def test_the_lap_counter_foretells_the_end_of_the_lap_from_the_sweep_so_far():
+    centre, radius = np.array(disk.DISK_CENTRE), disk.CIRCLE_RADIUS
+    start = centre + [0.0, -radius]
+    lap = disk.LapCounter(start)
+    rate = 2.0 * math.pi / 40.0  # rad/s: a lap in 40 s
+    for k in range(1, 1001):  # 20 s, half a lap, at 50 Hz
+        t = 0.02 * k
+        angle = -0.5 * math.pi + rate * t
+        lap.update(centre + radius * np.array([math.cos(angle), math.sin(angle)]), t)
+    assert lap.time_left(20.0, 1.0) == pytest.approx(20.0, rel=1e-6)
+    assert lap.time_left(10.0, 1.0) == pytest.approx(30.0, rel=1e-6)  # only the updates to t
+    assert lap.time_left(20.0, 0.5) == pytest.approx(0.0, abs=1e-6)
+    assert lap.time_left(0.5, 1.0) == math.inf  # less than the rate window seen
+    still = disk.LapCounter(start)
+    for k in range(100):
+        still.update(start, 0.02 * k)
+    assert still.time_left(1.98, 1.0) == math.inf
+
+
 def test_sample_at_takes_the_last_sample_stamped_at_or_before_a_time():
     samples = [(1.0, 'a'), (1.02, 'b'), (1.04, 'c')]
     assert sample_at(samples, 1.02) == (1.02, 'b')

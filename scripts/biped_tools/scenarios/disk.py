@@ -34,6 +34,11 @@ RETURN_TOLERANCE = 0.5   # m: distance to the start after the lap
 SETTLING = 3.0           # s at the start (weight shift, first steps) not held to the circle
 SAMPLE_PERIOD = 0.02     # s between LapCounter updates (one per control period)
 COMMAND_DELAY = 0.25  # s after a step starts: its command's stated time (steps of 0.4 + 0.2 s)
+# s: the STOP replaces the command of the first step that starts at most this long before the
+# lap's end, as the COM up to that start foretells it (the walk goes on for about a step after
+# a STOP, so the lap still ends)
+STOP_LEAD_OF_LAP = 0.55
+RATE_WINDOW = 1.0  # s of COM samples before a step's start that give the sweep rate
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
 
 
@@ -78,13 +83,31 @@ class LapCounter:
         self.last = math.atan2(rel[1], rel[0])
         self.swept = 0.0
         self.radii = []
+        self.history = []  # (t, swept) of every update
 
-    def update(self, position) -> None:
+    def update(self, position, t: float = math.nan) -> None:
         rel = np.asarray(position) - DISK_CENTRE
         angle = math.atan2(rel[1], rel[0])
         self.swept += math.remainder(angle - self.last, 2.0 * math.pi)
         self.last = angle
         self.radii.append(float(np.hypot(*rel)))
+        self.history.append((float(t), self.swept))
+
+    def time_left(self, t: float, laps: float) -> float:
+        """How long after t (s) the lap ends, from the updates up to t at the rate of the last
+        RATE_WINDOW s before it: 0 when it has ended, inf when the COM does not go round."""
+        before = [h for h in self.history if h[0] <= t + 1e-9]
+        if not before:
+            return math.inf
+        t_now, swept = before[-1]
+        left = 2.0 * math.pi * laps - swept
+        if left <= 0.0:
+            return 0.0
+        earlier = [h for h in before if h[0] <= t_now - RATE_WINDOW + 1e-9]
+        if not earlier:
+            return math.inf
+        rate = (swept - earlier[-1][1]) / (t_now - earlier[-1][0])
+        return left / rate if rate > 0.0 else math.inf
 
     def settled_radii(self) -> np.ndarray:
         """The radii after the first SETTLING s (all of them in a run shorter than 6 s)."""
@@ -141,14 +164,17 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
             x, y, turn = steering.command(*planned_pose(plans))
             session.command_pub.publish(_omni(x, y, turn, start_time))
 
-        def on_time(t: float) -> bool:
+        def read_lap() -> None:
             # every COM sample, in order, up to the one that completes the lap
             com = session.series.com
             while state['read'] < len(com) and lap.swept < 2.0 * math.pi * laps:
                 sample = com[state['read']]
                 state['read'] += 1
                 if sample[0] >= walk0:
-                    lap.update(sample[1:3])
+                    lap.update(sample[1:3], sample[0])
+
+        def on_time(t: float) -> bool:
+            read_lap()
             if state['step'] is None:      # the first command starts the walk at walk0
                 state['step'] = 0
                 send_command([], walk0)
@@ -162,24 +188,31 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
             # whenever it arrived before then. Without the plan in time, the newest one.
             if not state['sent']:
                 since = state['since']
+                com = session.series.com
+                if lap.swept < 2.0 * math.pi * laps and (not com or com[-1][0] < since):
+                    return False  # the COM up to the step's start decides, not the load
+                if lap.time_left(since, laps) <= STOP_LEAD_OF_LAP:
+                    state['stop_at'] = since + COMMAND_DELAY
+                    return True
                 plans = [p for p in session.series.plans
                          if stamp_seconds(p.header.stamp) < since + 1e-6]
                 if (plans and stamp_seconds(plans[-1].header.stamp) > since - 1e-6) or \
                         t >= since + COMMAND_DELAY:
                     state['sent'] = True
                     send_command(plans, since + COMMAND_DELAY)
-            return lap.swept >= 2.0 * math.pi * laps
+            return False
 
         step_time = 0.6
         expected = 2.0 * math.pi * CIRCLE_RADIUS * laps / step_length * step_time
         completed = drive(session, on_time, 1.5 * expected + 10.0 + walk0 - session.sim_time(),
                           progress,
                           lambda: f'swept {math.degrees(lap.swept):.0f} deg')
-        # STOP when the runner sees the lap completed, not at a stated time: the return error
-        # is measured where the robot stops, and a STOP stated STOP_AFTER_ARRIVAL after the lap
-        # walked the robot 1 s further (0.39-0.52 m off its start; the disk rows fell from
-        # 0.22 / 0.23 to 0.14 / 0.14 m), so this trial's end still depends on the load
-        stood = stop_walking(session) if completed else False
+        # the STOP takes the place of a step's command, stated as that command would have been
+        # (a STOP stated STOP_AFTER_ARRIVAL after the lap was seen walked the robot 0.39-0.52 m
+        # past its start, where the return error is measured)
+        stood = stop_walking(session, at=state['stop_at']) if completed else False
+        read_lap()
+        completed = completed and lap.swept >= 2.0 * math.pi * laps
         result = base_result(trial, session, wall0, sim0)
         series = session.series
     end = np.array(series.com[-1][1:3])
