@@ -230,6 +230,9 @@ def test_teleop_cmd_vel_starts_a_continuous_plan_that_grows_while_walking(graph)
     for _ in range(30):  # a teleop at 10 Hz (cmd_vel times out after 0.5 s)
         g['clock'].advance(0.1, pace=2.0)
         g['cmd_vel'].publish(Twist())
+    # the clock stops here; under load the executor's backlog (a few spins per clock tick) can
+    # still hold the last walking_state messages: let them in before reading them
+    spin_until(g['executor'], lambda: max(s.step_index for s in g['states'].messages) >= 3, 2.0)
     plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
     assert len(plans[-1].footsteps) > len(first.footsteps)
     steps = max(s.step_index for s in g['states'].messages)
