@@ -367,3 +367,28 @@ def test_after_a_reset_the_servos_hold_the_standing_pose_while_the_controller_re
     now = sim['joints'].messages[-1]
     assert list(now.position[:12]) == pytest.approx(standing, abs=0.02)  # held
     assert 0.5 < sim['odom'].messages[-1].pose.pose.position.z < 0.6
+
+
+def test_a_late_command_with_a_bad_value_is_refused_for_its_value(sim):
+    """A second publisher's bad command can arrive after the controller's next one: the log
+    names the bad value, not only the stamp that went back."""
+    rosout = RosoutLines(sim['client'])
+    commands = sim['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(sim['executor'], commands)
+    assert sim['joints'].wait_for(sim['executor'], timeout=15)
+    first = sim['joints'].messages[-1].header.stamp
+    answer = JointState(name=['l_knee_joint'], position=[0.5])
+    answer.header.stamp = first
+    commands.publish(answer)  # answers the period: the clock moves on
+    assert spin_until(sim['executor'], lambda: sim['joints'].messages[-1].header.stamp != first,
+                      10)
+    newer = sim['joints'].messages[-1].header.stamp
+    answer.header.stamp = newer
+    commands.publish(answer)
+    assert spin_until(sim['executor'], lambda: sim['joints'].messages[-1].header.stamp != newer,
+                      10)
+    late = JointState(name=['l_knee_joint'], position=[math.nan])
+    late.header.stamp = first  # before the last answered command
+    commands.publish(late)
+    assert spin_until(sim['executor'], lambda: rosout.has('joint_commands rejected',
+                                                          'not finite'), 10)

@@ -210,15 +210,16 @@ class SimulatorNode(Node):
         stamp = seconds_of(msg.header.stamp)
         now = self._now()
         try:
+            # the values first: a bad value is named even when the message also comes late
+            setpoints, velocities = checked_command(
+                msg, self._names, self._setpoints, (self._lower, self._upper),
+                float(self.get_parameter('command_margin').value),
+                float(self.get_parameter('max_command_velocity').value))
             if stamp > now + 1e-6:
                 raise ValueError(f'stamp {stamp:.3f} s is ahead of the simulation ({now:.3f} s)')
             if stamp < self._last_command_stamp - 1e-6:
                 raise ValueError(f'stamp {stamp:.3f} s goes back (the last command answered '
                                  f't={self._last_command_stamp:.3f} s)')
-            setpoints, velocities = checked_command(
-                msg, self._names, self._setpoints, (self._lower, self._upper),
-                float(self.get_parameter('command_margin').value),
-                float(self.get_parameter('max_command_velocity').value))
         except (ValueError, BipedSimError) as error:
             self._reject('joint_commands', error)
             if self._lockstep() and abs(stamp - now) < 1e-6 and not self._controller_lost:
