@@ -1,8 +1,8 @@
 """The push-directions scenario's schedule: which time a push of each phase starts at."""
 import pytest
 
-from biped_tools.scenarios.push_directions import (DURATION, forces, next_push_time, PHASES,
-                                                   table, TIMING)
+from biped_tools.scenarios.push_directions import (DURATION, forces, median_run,
+                                                   next_push_time, PHASES, table, TIMING)
 
 SINGLE, DOUBLE = TIMING
 STEP = SINGLE + DOUBLE
@@ -83,3 +83,13 @@ def test_a_push_meets_the_phase_that_began_before_it_not_the_one_last_reported()
     assert phase_at(states, 10.3) == 'double, step 7'
     assert phase_at(states, 10.2) == 'single right, step 7'
     assert phase_at(states, 9.8) == 'before the walk'
+
+
+def test_a_repeated_cell_is_its_median_run_and_a_run_without_a_push_does_not_count():
+    runs = [{'largest_withstood_n': f, 'pushes': [{}] if f is not None else [], 'fallen': False,
+             'run': k} for k, f in enumerate((140.0, 80.0, None, 110.0, 170.0))]
+    runs[2]['largest_withstood_n'] = 0.0
+    cell = median_run(runs)
+    assert cell['run'] == 3 and cell['largest_withstood_n'] == 110.0  # of 80, 110, 140, 170
+    assert cell['repeats_withstood_n'] == [140.0, 80.0, None, 110.0, 170.0]
+    assert median_run([runs[0]])['repeats_withstood_n'] == [140.0]

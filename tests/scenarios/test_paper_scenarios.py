@@ -70,14 +70,74 @@ def test_bisection_finds_the_largest_completing_value(threshold):
     values = grid(0.08, 0.25, 0.01)
     calls = []
 
-    def completes(value):
+    def completes(value, run=0):
         calls.append(value)
         return threshold is not None and value <= threshold + 1e-9
     best, tried = largest_completing(values, completes, first=0.15)
     exhaustive = max((v for v in values if completes(v)), default=None)
     assert best == exhaustive
     assert len(tried) <= math.ceil(math.log2(len(values) + 1)) + 1
-    assert tried[0.15] == (threshold is not None and threshold >= 0.15)
+    assert tried[0.15] == [threshold is not None and threshold >= 0.15]
+    assert all(len(outcomes) == 1 for outcomes in tried.values())
+
+
+@pytest.mark.parametrize('threshold', [None, 0.08, 0.12, 0.2, 0.25])
+def test_repeats_confirm_a_steady_limit_and_the_value_above_it(threshold):
+    values = grid(0.08, 0.25, 0.01)
+    best, tried = largest_completing(
+        values, lambda value, run: threshold is not None and value <= threshold + 1e-9,
+        first=0.15, repeats=3)
+    assert best == threshold
+    limit = values.index(threshold) if threshold is not None else -1
+    for index in (limit, limit + 1):
+        if 0 <= index < len(values):
+            assert len(tried[values[index]]) == 3
+    assert sum(len(o) > 1 for o in tried.values()) == sum(0 <= i < len(values)
+                                                          for i in (limit, limit + 1))
+
+
+def scripted(outcomes):
+    """completes(value, run) from {value: [outcome of run 0, 1, ...]}; others: value <= 0.12."""
+    return lambda value, run: outcomes[value][run] if value in outcomes else value <= 0.12
+
+
+def test_a_limit_that_passed_once_but_fails_its_repeats_moves_down():
+    values = grid(0.08, 0.25, 0.01)  # bisection from 0.15 tries 0.15, 0.11, 0.13, 0.12
+    flaky = {0.12: [True, False, False], 0.13: [False, False, False]}
+    best, tried = largest_completing(values, scripted(flaky), first=0.15, repeats=3)
+    assert best == 0.11
+    assert tried[0.12] == [True, False, False] and len(tried[0.11]) == 3
+    # one run, as before: the lucky pass is the figure
+    assert largest_completing(values, scripted(flaky), first=0.15)[0] == 0.12
+
+
+def test_a_setting_above_the_limit_whose_repeats_mostly_complete_moves_it_up():
+    values = grid(0.08, 0.25, 0.01)
+    flaky = {0.13: [False, True, True], 0.14: [False, False, True]}
+    best, tried = largest_completing(values, scripted(flaky), first=0.15, repeats=3)
+    assert best == 0.13
+    assert tried[0.13] == [False, True, True] and tried[0.14] == [False, False, True]
+
+
+@pytest.mark.parametrize('repeats', [0, 2, -1])
+def test_repeats_must_make_a_median(repeats):
+    with pytest.raises(ValueError):
+        largest_completing([0.1, 0.2], lambda value, run: True, repeats=repeats)
+
+
+def test_the_push_figure_is_the_median_of_its_runs(monkeypatch):
+    figures = iter([(130.0, 140.0), (110.0, 120.0), (130.0, 140.0)])
+    names = []
+
+    def fake_run(trial, schedule):
+        names.append(trial)
+        withstood, fall = next(figures)
+        return {'largest_withstood_n': withstood, 'first_fall_force_n': fall, 'success': False}
+    monkeypatch.setattr(push, 'run', fake_run)
+    result = push.repeated(lambda scenario, setting: f'{scenario}/{setting}', push.forces(), 3)
+    assert names == ['push/schedule', 'push/schedule_run2', 'push/schedule_run3']
+    assert result['largest_withstood_n'] == 130.0 and result['first_fall_force_n'] == 140.0
+    assert [r['largest_withstood_n'] for r in result['runs']] == [130.0, 110.0, 130.0]
 
 
 def test_grid_is_inclusive_and_rounded():

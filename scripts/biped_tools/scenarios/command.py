@@ -4,17 +4,22 @@ baseline: one sub-command per scenario, `summary` for the table tb:summary, `vid
 Every trial brings up the node graph (lockstep sim time), records a rosbag2 of the run, and writes
 result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
 
-  scenarios.py disk [--step-length 0.15 | --sweep] [--laps 1]
-  scenarios.py omni [--scale 1.0 | --sweep] [--duration 36]
-  scenarios.py push [--forces 80 100 ...]            (default: the paper's schedule to a fall)
+  scenarios.py disk [--step-length 0.15 | --sweep [--repeats 3]] [--laps 1]
+  scenarios.py omni [--scale 1.0 | --sweep [--repeats 3]] [--duration 36]
+  scenarios.py push [--forces 80 100 ...] [--repeats 3]   (default: the paper's schedule to a
+                                                           fall, three runs, the median)
   scenarios.py push-directions [--directions 0 45 ...] [--phases early_single ...]
                [--gaits in_place forward] [--adjustment off on] [--forces 80 110 ...]
+               [--repeats 1]
   scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
   scenarios.py goal
-  scenarios.py summary [--seeds 1 2 3] [--jobs 2]    (all of them, both models, the table)
+  scenarios.py summary [--seeds 1 2 3] [--jobs 2] [--repeats 3]   (all of them, both models,
+                                                                  the table)
   scenarios.py video push --model three_mass         (an animated GIF from the sim camera;
                                                       push-adjusted: with step adjustment)
 Common: --model three_mass|lipm|both (default both), --out DIR, --domain-id N, --no-bag.
+A limit (largest step length, scale or push) is confirmed by --repeats runs at it and at the
+setting above it, judged by the median (biped_tools.scenarios.sweep).
 """
 import argparse
 import json
@@ -26,6 +31,7 @@ from biped_tools.bringup import parse_overrides
 from biped_tools.paths import OUTPUT
 from biped_tools.scenarios import (disk, omni, push, push_directions, start_goal, summary,
                                    terrain)
+from biped_tools.scenarios.sweep import run_name
 from biped_tools.scenarios.trial import TrialFactory
 
 MODELS = ('lipm', 'three_mass')
@@ -46,19 +52,26 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument('-p', '--param', action='append', default=[],
                         metavar='NODE:NAME:=VALUE', help='override one parameter of a node of '
                         'every trial, as in bringup.py (e.g. mpc_controller:balance:=stabilizer)')
+    def repeats(default: int) -> argparse.ArgumentParser:
+        option = argparse.ArgumentParser(add_help=False)
+        option.add_argument('--repeats', type=positive_odd, default=default,
+                            help='runs at each limit found and at the setting above it (of a '
+                            'push schedule or cell: runs of it), judged by the median (odd; '
+                            f'default {default})')
+        return option
     sub = parser.add_subparsers(dest='scenario', required=True)
-    p = sub.add_parser('disk', parents=[common], help='walk around a disk')
+    p = sub.add_parser('disk', parents=[common, repeats(3)], help='walk around a disk')
     p.add_argument('--step-length', type=float, default=0.15)
     p.add_argument('--laps', type=float, default=1.0)
     p.add_argument('--sweep', action='store_true', help='largest step length in 0.08..0.25 m')
-    p = sub.add_parser('omni', parents=[common], help='omnidirectional setpoints')
+    p = sub.add_parser('omni', parents=[common, repeats(3)], help='omnidirectional setpoints')
     p.add_argument('--scale', type=float, default=1.0)
     p.add_argument('--duration', type=float, default=omni.DURATION)
     p.add_argument('--sweep', action='store_true', help='largest command scale in 0.5..1.5')
-    p = sub.add_parser('push', parents=[common], help='pushes while walking in place')
+    p = sub.add_parser('push', parents=[common, repeats(3)], help='pushes while walking in place')
     p.add_argument('--forces', type=float, nargs='+', default=None,
                    help='N, one push each 8 s (default 80, 100, 120, 130, ... up to a fall)')
-    p = sub.add_parser('push-directions', parents=[common],
+    p = sub.add_parser('push-directions', parents=[common, repeats(1)],
                        help='pushes from 8 directions at 4 phases, step adjustment off / on')
     p.add_argument('--directions', type=float, nargs='+',
                    default=list(push_directions.DIRECTIONS_DEG), help='deg from +x towards +y')
@@ -76,7 +89,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
     p.add_argument('--side', type=float, default=terrain.SIDE)
     sub.add_parser('goal', parents=[common], help='START -> GOAL around obstacles')
-    p = sub.add_parser('summary', parents=[common], help='every scenario, both models, table')
+    p = sub.add_parser('summary', parents=[common, repeats(3)],
+                       help='every scenario, both models, table')
     p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
     p.add_argument('--jobs', type=int, default=1,
                    help='independent parts run side by side, each graph on its own domains')
@@ -84,6 +98,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument('which', choices=('disk', 'omni', 'push', 'push-adjusted', 'terrain'))
     p.add_argument('--fps', type=float, default=12.5)
     return parser
+
+
+def positive_odd(text: str) -> int:
+    value = int(text)
+    if value < 1 or value % 2 == 0:
+        raise argparse.ArgumentTypeError(f'{value}: an odd number >= 1 (a median)')
+    return value
 
 
 def models_of(args):
@@ -105,26 +126,29 @@ def run_scenario(args) -> int:
     for model in models_of(args):
         trial = trials_for(args, model)
         if args.scenario == 'disk' and args.sweep:
-            best, tried = disk.largest_step_length(trial)
+            best, tried = disk.largest_step_length(trial, args.repeats)
             results.append({'model': model, 'largest_step_length_m': best,
                             'tried': summary.tried_keys(tried), 'success': best is not None})
         elif args.scenario == 'disk':
             results.append(disk.run(trial('disk', f'{args.step_length:.2f}'), args.step_length,
                                     args.laps))
         elif args.scenario == 'omni' and args.sweep:
-            best, tried = omni.largest_scale(trial, args.duration)
+            best, tried = omni.largest_scale(trial, args.duration, args.repeats)
             results.append({'model': model, 'largest_scale': best,
                             'tried': summary.tried_keys(tried), 'success': best is not None})
         elif args.scenario == 'omni':
             results.append(omni.run(trial('omni', f'{args.scale:.2f}'), args.scale,
                                     args.duration))
         elif args.scenario == 'push':
-            results.append(push.run(trial('push', 'schedule'), args.forces or push.forces()))
+            pushed = push.repeated(trial, args.forces or push.forces(), args.repeats)
+            results.append({'model': model, **pushed, 'success': all(
+                r['success'] for r in pushed['runs'])})
         elif args.scenario == 'push-directions':
-            cells = [push_directions.run(
-                trial('push_directions', f'{gait}_{phase}_{direction:g}deg_{setting}'),
+            cells = [push_directions.median_run([push_directions.run(
+                trial('push_directions', run_name(f'{gait}_{phase}_{direction:g}deg_{setting}',
+                                                  k)),
                 direction, phase, gait, args.forces or push_directions.forces(),
-                setting == 'on', args.interval)
+                setting == 'on', args.interval) for k in range(args.repeats)])
                 for gait in args.gaits for phase in args.phases
                 for direction in args.directions for setting in args.adjustment]
             results.extend(cells)
@@ -145,14 +169,15 @@ def run_summary(args) -> int:
     wall0 = time.monotonic()
     args.out.mkdir(parents=True, exist_ok=True)
     per_model = summary.run_models(args.out, MODELS, args.domain_id, args.seeds,
-                                   not args.no_bag, log, max(1, args.jobs))
+                                   not args.no_bag, log, max(1, args.jobs), args.repeats)
     table = summary.table(per_model['lipm'], per_model['three_mass'])
     table['wall_s'] = round(time.monotonic() - wall0, 1)
     table['jobs'] = max(1, args.jobs)
+    table['repeats'] = args.repeats
     table['per_model'] = per_model
     (args.out / 'summary.json').write_text(json.dumps(table, indent=2))
     text = summary.markdown(table) + f'\nMade by `scripts/scenarios.py summary --jobs ' \
-        f'{table["jobs"]}` in {table["wall_s"] / 60:.0f} min.\n'
+        f'{table["jobs"]} --repeats {args.repeats}` in {table["wall_s"] / 60:.0f} min.\n'
     (args.out / 'summary.md').write_text(text)
     print(text)
     return 0

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from biped_tools.graph_session import stamp_seconds, STEPPING
-from biped_tools.scenarios.sweep import grid, largest_completing
+from biped_tools.scenarios.sweep import grid, largest_completing, run_name
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
                                          stated_start, stop_walking, SWEEP_LIMITS, Trial,
                                          write_result)
@@ -229,11 +229,13 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
     return write_result(trial, result)
 
 
-def largest_step_length(make_trial) -> tuple:
-    """Bisection of STEP_LENGTHS from the paper's 0.15 m: (largest completing or None,
-    {length: completed}); make_trial(scenario, setting) gives each trial."""
-    return largest_completing(STEP_LENGTHS, lambda length: run(
-        make_trial('disk', f'{length:.2f}'), length)['success'], first=0.15)
+def largest_step_length(make_trial, repeats: int = 1) -> tuple:
+    """Bisection of STEP_LENGTHS from the paper's 0.15 m, the limit confirmed by `repeats` runs
+    (biped_tools.scenarios.sweep): (largest completing or None, {length: [completed, ...]});
+    make_trial(scenario, setting) gives each trial."""
+    return largest_completing(STEP_LENGTHS, lambda length, k: run(
+        make_trial('disk', run_name(f'{length:.2f}', k)), length)['success'], first=0.15,
+        repeats=repeats)
 
 
 def _omni(x: float, y: float, turn: float, start_time: float):

@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from biped_tools.graph_session import STEPPING
-from biped_tools.scenarios.sweep import grid, largest_completing
+from biped_tools.scenarios.sweep import grid, largest_completing, run_name
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
                                          stated_start, STOP_LEAD, stop_walking, SWEEP_LIMITS,
                                          Trial, write_result)
@@ -91,11 +91,13 @@ def run(trial: Trial, scale: float, duration: float = DURATION) -> dict:
     return write_result(trial, result)
 
 
-def largest_scale(make_trial, duration: float = DURATION) -> tuple:
-    """Bisection of SCALES from 1: (largest completing or None, {scale: completed});
+def largest_scale(make_trial, duration: float = DURATION, repeats: int = 1) -> tuple:
+    """Bisection of SCALES from 1, the limit confirmed by `repeats` runs
+    (biped_tools.scenarios.sweep): (largest completing or None, {scale: [completed, ...]});
     make_trial(scenario, setting) gives each trial."""
-    return largest_completing(SCALES, lambda scale: run(
-        make_trial('omni', f'{scale:.2f}'), scale, duration)['success'], first=1.0)
+    return largest_completing(SCALES, lambda scale, k: run(
+        make_trial('omni', run_name(f'{scale:.2f}', k)), scale, duration)['success'],
+        first=1.0, repeats=repeats)
 
 
 def plot(trial: Trial, series, result: dict):

@@ -12,6 +12,7 @@ from typing import List
 
 import numpy as np
 
+from biped_tools.scenarios.sweep import run_name
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
                                          request_push, stated_start, STOP_LEAD, stop_walking,
                                          Trial, write_result)
@@ -94,6 +95,23 @@ def run(trial: Trial, schedule: List[float], direction: float = 1.0) -> dict:
                            f'it')
     result['plots'] = [str(plot(trial, series, result, times, schedule))]
     return write_result(trial, result)
+
+
+def repeated(make_trial, schedule: List[float], repeats: int = 1) -> dict:
+    """The push schedule walked `repeats` times (odd), each run a fresh graph: the median run's
+    largest push withstood and first falling force (a limit confirmed by repeats, not one
+    run's), and every run's.
+
+    :param make_trial: make_trial(scenario, setting) gives each trial
+    """
+    if repeats < 1 or repeats % 2 == 0:
+        raise ValueError(f'repeats must be odd and >= 1 (a median), got {repeats}')
+    runs = [run(make_trial('push', run_name('schedule', k)), schedule) for k in range(repeats)]
+    median = sorted(runs, key=lambda r: r['largest_withstood_n'])[repeats // 2]
+    return {'largest_withstood_n': median['largest_withstood_n'],
+            'first_fall_force_n': median['first_fall_force_n'],
+            'runs': [{k: r[k] for k in ('largest_withstood_n', 'first_fall_force_n', 'success')}
+                     for r in runs]}
 
 
 def plot(trial: Trial, series, result: dict, times, schedule):

@@ -293,6 +293,17 @@ def pushed(result: dict) -> bool:
     return bool(result.get('pushes', True)) or bool(result.get('fallen'))
 
 
+def median_run(runs: List[dict]) -> dict:
+    """One cell from its repeated runs (an odd number): the run with the median largest push
+    withstood (the lower one of an even count: a limit is not rounded up), with every run's
+    figure in 'repeats_withstood_n'; a run that made no push counts only when no run did."""
+    met = [r for r in runs if pushed(r)] or runs
+    median = dict(sorted(met, key=lambda r: r['largest_withstood_n'])[(len(met) - 1) // 2])
+    median['repeats_withstood_n'] = [r['largest_withstood_n'] if pushed(r) else None
+                                     for r in runs]
+    return median
+
+
 def table(results: List[dict]) -> str:
     """Markdown: largest push withstood per direction (rows) and phase (columns), each cell
     'off / on' when both adjustment settings were run, and the minimum; a trial that made no

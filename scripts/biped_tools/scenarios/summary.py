@@ -34,15 +34,17 @@ class Unit:
     :param scenario: disk, omni, push, terrain or goal
     :param domain_base: first domain of its block
     :param tile_area: the terrain unit's tile area (cm^2)
+    :param repeats: runs at each limit (disk, omni) or of the push schedule, judged by the median
     """
 
     model: str
     scenario: str
     domain_base: int
     tile_area: float = 0.0
+    repeats: int = 1
 
 
-def units_of(models, domain_base: int) -> List[Unit]:
+def units_of(models, domain_base: int, repeats: int = 1) -> List[Unit]:
     """Every unit of the summary, the same list for any number of jobs (so each trial gets the
     same domain, and the same result, whatever runs beside it).
 
@@ -50,7 +52,7 @@ def units_of(models, domain_base: int) -> List[Unit]:
     """
     kinds = [('disk', 0.0), ('omni', 0.0), ('push', 0.0), ('goal', 0.0)] + [
         ('terrain', area) for area in terrain.TILE_AREAS_CM2]
-    units = [Unit(model, kind, domain_base + UNIT_DOMAINS * index, area)
+    units = [Unit(model, kind, domain_base + UNIT_DOMAINS * index, area, repeats)
              for index, (model, (kind, area)) in enumerate(
                  (model, kind) for model in models for kind in kinds)]
     last = units[-1].domain_base + UNIT_DOMAINS - 1
@@ -68,17 +70,16 @@ def run_unit(unit: Unit, out: Path, seeds: List[int], record: bool = True,
     if unit.scenario == 'disk':
         log(f'[summary {model}] disk: step length sweep {disk.STEP_LENGTHS[0]}..'
             f'{disk.STEP_LENGTHS[-1]} m')
-        best, tried = disk.largest_step_length(trial)
+        best, tried = disk.largest_step_length(trial, unit.repeats)
         return {'largest_step_length_m': best, 'tried': tried_keys(tried)}
     if unit.scenario == 'omni':
         log(f'[summary {model}] omni: command scale sweep')
-        best, tried = omni.largest_scale(trial)
+        best, tried = omni.largest_scale(trial, repeats=unit.repeats)
         return {'largest_scale': best, 'tried': tried_keys(tried)}
     if unit.scenario == 'push':
-        log(f'[summary {model}] push: 80, 100, 120, 130, ... N every 8 s')
-        pushed = push.run(trial('push', 'schedule'), push.forces())
-        return {'largest_withstood_n': pushed['largest_withstood_n'],
-                'first_fall_force_n': pushed['first_fall_force_n']}
+        log(f'[summary {model}] push: 80, 100, 120, 130, ... N every 8 s, {unit.repeats} '
+            f'run(s)')
+        return push.repeated(trial, push.forces(), unit.repeats)
     if unit.scenario == 'terrain':
         log(f'[summary {model}] terrain: tiles of {unit.tile_area:g} cm^2 x seeds {seeds}')
         runs = [terrain.run(trial('terrain', f'{unit.tile_area}cm2_seed{seed}'),
@@ -96,10 +97,11 @@ def _run_unit_in_worker(unit: Unit, out: Path, seeds: List[int], record: bool) -
 
 
 def run_models(out: Path, models, domain_base: int, seeds: List[int], record: bool = True,
-               log: Callable = print, jobs: int = 1) -> Dict[str, Dict]:
+               log: Callable = print, jobs: int = 1, repeats: int = 1) -> Dict[str, Dict]:
     """Every scenario of every model, `jobs` units at a time (each in its own process when
-    jobs > 1); writes out/<model>_results.json and returns {model: results}."""
-    units = units_of(models, domain_base)
+    jobs > 1), each limit confirmed by `repeats` runs; writes out/<model>_results.json and
+    returns {model: results}."""
+    units = units_of(models, domain_base, repeats)
     wall0 = time.monotonic()
     if jobs <= 1:
         parts = [run_unit(unit, out, seeds, record, log) for unit in units]
@@ -129,8 +131,8 @@ def run_models(out: Path, models, domain_base: int, seeds: List[int], record: bo
     return per_model
 
 
-def tried_keys(tried: Dict[float, bool]) -> Dict[str, bool]:
-    """{setting: completed} with the settings as JSON keys."""
+def tried_keys(tried: Dict[float, List[bool]]) -> Dict[str, List[bool]]:
+    """{setting: [completed, ...]} with the settings as JSON keys."""
     return {f'{value:g}': ok for value, ok in sorted(tried.items())}
 
 
