@@ -11,7 +11,7 @@ result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
   scenarios.py push-directions [--directions 0 45 ...] [--phases early_single ...]
                [--gaits in_place forward] [--adjustment off on] [--forces 80 110 ...]
                [--repeats 1]
-  scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4]
+  scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4] [--stand 30]
   scenarios.py goal
   scenarios.py summary [--seeds 1 2 3] [--jobs 2] [--repeats 3]   (all of them, both models,
                                                                   the table)
@@ -88,6 +88,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument('--tile-areas', type=float, nargs='+', default=list(terrain.TILE_AREAS_CM2))
     p.add_argument('--seeds', type=int, nargs='+', default=[1, 2, 3])
     p.add_argument('--side', type=float, default=terrain.SIDE)
+    p.add_argument('--stand', type=float, default=0.0,
+                   help='s the robot stands on the tiles before it walks (issue: 30)')
     sub.add_parser('goal', parents=[common], help='START -> GOAL around obstacles')
     p = sub.add_parser('summary', parents=[common, repeats(3)],
                        help='every scenario, both models, table')
@@ -157,7 +159,7 @@ def run_scenario(args) -> int:
                     [c for c in cells if c['gait'] == gait]), flush=True)
         elif args.scenario == 'terrain':
             results.extend(terrain.run(trial('terrain', f'{area:g}cm2_seed{seed}'), area, seed,
-                                       side=args.side)
+                                       side=args.side, stand=args.stand)
                            for area in args.tile_areas for seed in args.seeds)
         elif args.scenario == 'goal':
             results.append(start_goal.run(trial('goal', 'paper_map')))

@@ -3,7 +3,7 @@
 A 4 x 4 m area of square tiles of random heights (25-50 mm), the robot standing on it 0.5 m
 from its near edge; tile areas of 100, 400 and 625 cm^2; the controller knows nothing of the
 terrain (flat-ground references). The robot walks forward (OMNI command, fixed step) until its
-pelvis is past the far edge.
+pelvis is past the far edge; with `stand` it first stands that much longer on the tiles.
 Reported: success per tile size and seed, and the COM height (paper Fig. uneven b).
 """
 import math
@@ -28,9 +28,13 @@ def tile_size(area_cm2: float) -> float:
 
 
 def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENGTH,
-        side: float = SIDE, heights: tuple = HEIGHTS) -> dict:
+        side: float = SIDE, heights: tuple = HEIGHTS, stand: float = 0.0) -> dict:
     """Walk across a side x side m tiled area (tiles of area_cm2, heights (min, max) in m
-    drawn from seed)."""
+    drawn from seed).
+
+    :param stand: s of sim time the robot stands on the tiles past the stated start before it
+        walks (the issue's "stands 30 s": stand 30)
+    """
     from biped_msgs.msg import WalkCommand
     wall0 = time.monotonic()
     # the simulator starts with the robot standing on the tiles, as in the paper
@@ -44,10 +48,11 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         progress = Progress(trial)
         sim0 = session.sim_time()
         # it settles on the tiles until the stated start (the same in every run)
+        walk_start = stated_start(session, trial) + stand
         session.send_command(command=WalkCommand.OMNI, step_length=step_length,
-                             start_time=stated_start(session, trial))
+                             start_time=walk_start)
         exit_x = side - BEHIND + EXIT_MARGIN
-        budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0
+        budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0 + stand
         crossed = drive(session, lambda t: session.series.pelvis[-1][1] >= exit_x, budget,
                         progress)
         stood, result_stop = False, None
@@ -60,6 +65,9 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         series = session.series
     pelvis = np.array(series.pelvis)
     result['start_pelvis_z'] = round(float(pelvis[0, 3]), 4)  # on the tiles: above flat 0.54 m
+    result['stand_s'] = stand
+    result['fell_standing'] = bool(result['fallen'] and
+                                   sim0 + result['fall_time_s'] < walk_start)
     if result['fallen']:  # how far it walked: before it began to fall (not where it landed)
         pelvis = pelvis[pelvis[:, 0] <= sim0 + result['fall_time_s'] - 0.5]
     reached = float(pelvis[:, 1].max()) if len(pelvis) else 0.0

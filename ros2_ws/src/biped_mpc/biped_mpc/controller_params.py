@@ -119,12 +119,12 @@ class WalkingControllerParams:
                                        'QP, below the real one (1)', low=0.05, high=2.0)
     wrench_min_force: float = parameter(15.0, 'minimum normal force of a supporting foot in the '
                                         'wrench distribution (N)', low=0.0, high=1000.0)
-    ankle_damping_gain: float = parameter(0.01, 'foot damping: ankle roll and pitch admittance '
+    ankle_damping_gain: float = parameter(0.02, 'foot damping: ankle roll and pitch admittance '
                                           'on the torque error (rad/(N m s))', low=0.0,
                                           high=1.0)
-    ankle_damping_rate_limit: float = parameter(0.2, 'largest ankle offset speed (rad/s)',
+    ankle_damping_rate_limit: float = parameter(1.0, 'largest ankle offset speed (rad/s)',
                                                 low=0.001, high=10.0)
-    ankle_damping_angle_limit: float = parameter(0.15, 'largest ankle offset (rad)', low=0.0,
+    ankle_damping_angle_limit: float = parameter(0.3, 'largest ankle offset (rad)', low=0.0,
                                                  high=0.6)
     ankle_spring_time_constant: float = parameter(1.0, 'weak spring of the ankle offsets back to '
                                                   'nominal (s)', low=0.01, high=1000.0)

@@ -1,6 +1,7 @@
 """The stabilized controller on uneven ground in PyBullet (biped_sim.terrain_trial).
 
-Standing 30 s with the left sole's front half over a 25 mm drop; one crossing of the paper's
+Standing 30 s with the left sole's front half over a 25 mm drop, and on two of the paper's
+terrains whose start puts both soles on tile edges; one crossing of the paper's
 tiles (100 cm^2, seed 1), where the stabilizer still falls (docs/simulator_notes.md) but
 walks further than the open loop.
 """
@@ -24,6 +25,22 @@ def test_standing_thirty_seconds_with_a_sole_half_over_an_edge(sim, robot):
     # Both feet stay on the platform (the left one on its rear half), the pelvis at rest.
     assert np.all(result.contacts[-250:])
     assert np.ptp(result.log.base_position[-250:, :2], axis=0).max() < 0.005
+
+
+@pytest.mark.parametrize('area_cm2, seed', [(625, 1), (100, 2)])
+def test_standing_thirty_seconds_on_the_papers_tiles(sim, robot, area_cm2, seed):
+    """Both soles start on tile edges: 625 cm^2 seed 1 has the heels on a 50 mm tile and the
+    toes over 27 and 41 mm ones, the centre of mass ahead of the edges. The soles tip onto the
+    lower tiles; foot damping lets them while the body stays upright (with 0.01 rad/(N m s),
+    0.2 rad/s and 0.15 rad the robot fell there after 2.1 s)."""
+    controller = WalkingController(WalkingControllerParams(
+        robot=robot.controller_model, balance='stabilizer', swing_target='planned'))
+    result = run_trial(sim, controller, 0, 0.0, paper_terrain(area_cm2 * 1e-4, seed),
+                       duration=30.0, t_start=1e3)
+    assert not result.fallen
+    assert result.duration == pytest.approx(30.0, abs=0.05)
+    assert result.max_tilt < 8.0
+    assert np.ptp(result.log.base_position[-250:, :2], axis=0).max() < 0.005  # at rest
 
 
 def test_the_stabilizer_walks_further_on_tiles_than_the_open_loop(sim, robot):
