@@ -119,7 +119,7 @@ class WalkingControllerParams:
                                        'QP, below the real one (1)', low=0.05, high=2.0)
     wrench_min_force: float = parameter(15.0, 'minimum normal force of a supporting foot in the '
                                         'wrench distribution (N)', low=0.0, high=1000.0)
-    ankle_damping_gain: float = parameter(0.02, 'foot damping: ankle roll and pitch admittance '
+    ankle_damping_gain: float = parameter(0.015, 'foot damping: ankle roll and pitch admittance '
                                           'on the torque error (rad/(N m s))', low=0.0,
                                           high=1.0)
     ankle_damping_rate_limit: float = parameter(1.0, 'largest ankle offset speed (rad/s)',
