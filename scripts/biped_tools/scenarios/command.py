@@ -31,7 +31,7 @@ from biped_tools.bringup import parse_overrides
 from biped_tools.paths import OUTPUT
 from biped_tools.scenarios import (disk, omni, push, push_directions, start_goal, summary,
                                    terrain)
-from biped_tools.scenarios.sweep import run_name
+from biped_tools.scenarios.sweep import check_repeats, run_name
 from biped_tools.scenarios.trial import TrialFactory
 
 MODELS = ('lipm', 'three_mass')
@@ -103,10 +103,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def positive_odd(text: str) -> int:
-    value = int(text)
-    if value < 1 or value % 2 == 0:
-        raise argparse.ArgumentTypeError(f'{value}: an odd number >= 1 (a median)')
-    return value
+    value = int(text)  # a ValueError here: argparse's own "invalid positive_odd value"
+    try:
+        return check_repeats(value)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from error
 
 
 def models_of(args):

@@ -12,7 +12,7 @@ from typing import List
 
 import numpy as np
 
-from biped_tools.scenarios.sweep import run_name
+from biped_tools.scenarios.sweep import check_repeats, median_run, run_name
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
                                          request_push, stated_start, STOP_LEAD, stop_walking,
                                          Trial, write_result)
@@ -104,10 +104,9 @@ def repeated(make_trial, schedule: List[float], repeats: int = 1) -> dict:
 
     :param make_trial: make_trial(scenario, setting) gives each trial
     """
-    if repeats < 1 or repeats % 2 == 0:
-        raise ValueError(f'repeats must be odd and >= 1 (a median), got {repeats}')
-    runs = [run(make_trial('push', run_name('schedule', k)), schedule) for k in range(repeats)]
-    median = sorted(runs, key=lambda r: r['largest_withstood_n'])[repeats // 2]
+    runs = [run(make_trial('push', run_name('schedule', k)), schedule)
+            for k in range(check_repeats(repeats))]
+    median = median_run(runs, 'largest_withstood_n')
     return {'largest_withstood_n': median['largest_withstood_n'],
             'first_fall_force_n': median['first_fall_force_n'],
             'runs': [{k: r[k] for k in ('largest_withstood_n', 'first_fall_force_n', 'success')}

@@ -22,6 +22,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from biped_tools.graph_session import stamp_seconds
+from biped_tools.scenarios import sweep
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
                                          request_push, stated_start, Trial, write_result)
 
@@ -297,8 +298,8 @@ def median_run(runs: List[dict]) -> dict:
     """One cell from its repeated runs (an odd number): the run with the median largest push
     withstood (the lower one of an even count: a limit is not rounded up), with every run's
     figure in 'repeats_withstood_n'; a run that made no push counts only when no run did."""
-    met = [r for r in runs if pushed(r)] or runs
-    median = dict(sorted(met, key=lambda r: r['largest_withstood_n'])[(len(met) - 1) // 2])
+    median = dict(sweep.median_run([r for r in runs if pushed(r)] or runs,
+                                   'largest_withstood_n'))
     median['repeats_withstood_n'] = [r['largest_withstood_n'] if pushed(r) else None
                                      for r in runs]
     return median

@@ -9,6 +9,19 @@ and the setting above it are each run `repeats` times and judged by the median o
 from typing import Callable, Dict, List, Optional, Sequence
 
 
+def check_repeats(repeats: int) -> int:
+    """:return: repeats, an odd number >= 1 (a median of runs); :raises ValueError: else"""
+    if repeats < 1 or repeats % 2 == 0:
+        raise ValueError(f'repeats must be odd and >= 1 (a median), got {repeats}')
+    return repeats
+
+
+def median_run(runs: Sequence[dict], key: str) -> dict:
+    """The run with the median runs[i][key], the lower one of an even count (a limit is not
+    rounded up)."""
+    return sorted(runs, key=lambda r: r[key])[(len(runs) - 1) // 2]
+
+
 def largest_completing(values: Sequence[float], completes: Callable[[float, int], bool],
                        first: Optional[float] = None, repeats: int = 1) -> tuple:
     """Bisection for the last value of the ascending grid `values` that completes.
@@ -28,8 +41,7 @@ def largest_completing(values: Sequence[float], completes: Callable[[float, int]
     values = list(values)
     if values != sorted(values) or not values:
         raise ValueError('values must be a non-empty ascending sequence')
-    if repeats < 1 or repeats % 2 == 0:
-        raise ValueError(f'repeats must be odd and >= 1 (a median), got {repeats}')
+    check_repeats(repeats)
     tried: Dict[float, List[bool]] = {}
 
     def run(index: int) -> List[bool]:
