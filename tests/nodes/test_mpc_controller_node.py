@@ -76,6 +76,24 @@ def test_waits_without_reference_then_controls_and_holds_a_stance_when_it_goes_s
     assert 0.5 < g['odom'].messages[-1].pose.pose.position.z < 0.6
 
 
+def test_before_its_first_reference_it_sends_the_measured_soles_of_the_sensor_time(loop):
+    """The reference generator stands its first references on them (standing_from_odom off):
+    the run then starts from the same feet whichever message comes first."""
+    from geometry_msgs.msg import PoseArray
+    g = loop
+    soles = Collector(g['client'], PoseArray, 'sole_poses', 10)
+    assert soles.wait_for(g['executor'], timeout=15), 'no sole_poses while waiting'
+    assert not g['commands'].messages
+    assert g['odom'].wait_for(g['executor'], timeout=5)
+    msg = soles.messages[-1]
+    assert msg.header.frame_id == 'map' and len(msg.poses) == 2
+    assert seconds(msg.header.stamp) in [seconds(m.header.stamp) for m in g['odom'].messages]
+    left, right = ([p.position.x, p.position.y, p.position.z] for p in msg.poses)
+    # the simulator's robot stands with its soles 0.14 m apart on the ground, level
+    assert abs(left[1] - right[1] - 0.14) < 0.01 and abs(left[0] - right[0]) < 0.01
+    assert abs(left[2]) < 0.01 and abs(right[2]) < 0.01
+
+
 def test_a_malformed_reference_is_rejected_and_control_goes_on(loop):
     g = loop
     assert g['odom'].wait_for(g['executor'], timeout=15)

@@ -7,6 +7,7 @@ from biped_msgs.msg import Footstep as FootstepMsg, FootstepPlan, ReferenceTraje
     WalkingState
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import Pose, PoseArray
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Header
 import numpy as np
@@ -83,6 +84,49 @@ def newest_window(g):
     g['clock'].advance(0.1)
     assert len(g['refs'].messages) > count, 'no reference'
     return window_from_reference_msg(g['refs'].messages[-1]), g['refs'].messages[-1].plan_id
+
+
+def odometry(x: float):
+    msg = Odometry()
+    msg.header.frame_id = 'map'
+    msg.pose.pose.position.x, msg.pose.pose.position.z = x, 0.55
+    msg.pose.pose.orientation.w = 1.0
+    return msg
+
+
+def test_it_stands_on_the_controllers_soles_not_on_odom(gen):
+    """The first reference does not depend on whether odom or sole_poses came first: odom is
+    not read (standing_from_odom off), and the reference goes out when the soles come, on a
+    held clock too (the controller waits for it)."""
+    g = gen
+    odom = g['client'].create_publisher(Odometry, 'odom', 10)
+    spin_until(g['executor'], lambda: False, 0.3)
+    odom.publish(odometry(1.0))
+    g['clock'].advance(0.2)
+    assert not g['refs'].messages, 'a reference stood on odom'
+    count = len(g['refs'].messages)
+    g['soles'].publish(sole_poses(0.5))
+    assert spin_until(g['executor'], lambda: len(g['refs'].messages) > count, 2.0), \
+        'no reference once the soles came (clock held)'
+    window = window_from_reference_msg(g['refs'].messages[-1])
+    assert window.left_foot[0, :2] == pytest.approx([0.5, 0.07])
+    assert window.hip[0] == pytest.approx([0.5, 0.0])
+
+
+def test_with_standing_from_odom_it_stands_beside_odom_until_the_soles_come(
+        ros_context, executor):
+    """A graph without a controller: feet stance_width apart beside the odom pose."""
+    g = make_gen(ros_context, executor, [Parameter('standing_from_odom', value=True)])
+    odom = g['client'].create_publisher(Odometry, 'odom', 10)
+    assert wait_for_subscribers(executor, odom, timeout=15)
+    odom.publish(odometry(1.0))
+    window, _ = newest_window(g)
+    assert window.hip[0] == pytest.approx([1.0, 0.0])
+    assert window.left_foot[0, 1] - window.right_foot[0, 1] == pytest.approx(0.2)
+    g['soles'].publish(sole_poses(0.5))
+    spin_until(g['executor'], lambda: False, 0.2)
+    window, _ = newest_window(g)
+    assert window.hip[0] == pytest.approx([0.5, 0.0])
 
 
 def test_a_new_epoch_drops_the_walk_and_stands_where_the_controller_puts_the_feet(gen):

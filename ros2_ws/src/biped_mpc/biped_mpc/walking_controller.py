@@ -180,8 +180,7 @@ class WalkingController:
         """
         self._check_arguments(t, feedback)
         rotation = quaternion_to_matrix(feedback.pelvis_orientation)
-        pelvis = (feedback.pelvis_position.copy() if feedback.pelvis_position is not None
-                  else np.array([0.0, 0.0, self.params.robot.pelvis_height]))
+        pelvis = self._start_pelvis(feedback)
         soles = self._soles(feedback.leg_joint_positions, pelvis, rotation)
         self._stance.reset(soles)
         hip = self._model_hip.of_pelvis(pelvis, rotation)
@@ -200,6 +199,23 @@ class WalkingController:
         self._com_history = []
         self._last_q = feedback.leg_joint_positions.copy()
         self._reset_done = True
+
+    def standing_soles(self, feedback: ControllerFeedback) -> np.ndarray:
+        """Where reset would latch the feet: [left, right] sole x, y, z (m), yaw (rad) of the
+        measured joints, the pelvis placed as reset places it. Before the first cycle the
+        reference generator stands the references there, so they start on the feet.
+
+        :raises InputError: if feedback is not a ControllerFeedback
+        """
+        self._check_arguments(0.0, feedback)
+        rotation = quaternion_to_matrix(feedback.pelvis_orientation)
+        soles = self._soles(feedback.leg_joint_positions, self._start_pelvis(feedback), rotation)
+        return np.array([sole_pose(*soles[side]) for side in SIDES])
+
+    def _start_pelvis(self, feedback: ControllerFeedback) -> np.ndarray:
+        """The measured pelvis, or (0, 0, pelvis_height) without one (imu_kinematics)."""
+        return (feedback.pelvis_position.copy() if feedback.pelvis_position is not None
+                else np.array([0.0, 0.0, self.params.robot.pelvis_height]))
 
     @property
     def balance_loop(self) -> Optional[BalanceLoop]:

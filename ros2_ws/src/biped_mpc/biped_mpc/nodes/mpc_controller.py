@@ -11,7 +11,8 @@ messages of each other sensor topic (no callback per message), and polls again f
 not in yet (topics have no order between them).
 Publishes: joint_commands (sensor_msgs/JointState: the 12 leg setpoints, stamped with the sensor
 time they answer), controller_diagnostics (biped_mpc/ControllerDiagnostics), sole_poses
-(geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to),
+(geometry_msgs/PoseArray: [left, right] soles the controller stands on, or swings to; before
+its first cycle the measured ones, for the reference generator's first references),
 balance_estimate (biped_msgs/BalanceEstimate: the DCM of the measured state, at the start of
 each cycle, before its command, while it has a subscriber; the reference generator's step
 adjuster answers it; biped_mpc.balance.measured_dcm, with the odometry's pelvis only).
@@ -304,6 +305,22 @@ class MpcControllerNode(Node):
             self._pending = None
             self._wait_timer.cancel()
             self._control_cycle()
+        elif not self._started:
+            self._publish_standing_soles()
+
+    def _publish_standing_soles(self) -> None:
+        """Before the first cycle: the measured soles of the pending period, where the
+        reference generator stands its first references. Taken from odom instead, they would
+        depend on which message came first, and a run on tiles would start differently."""
+        try:
+            feedback = self._intake.feedback(self._params.pelvis_source,
+                                             self.get_parameter('contact_force').value)
+            soles = self._controller.standing_soles(feedback)
+        except (KeyError, BipedMpcError, ValueError):
+            return  # a sensor without a valid message yet: the cycle reports it
+        self._soles_pub.publish(sole_poses_msg(
+            soles, Time(sec=self._last_cycle[0], nanosec=self._last_cycle[1]),
+            self.get_parameter('frames.world').value))
 
     def _on_wait_timer(self) -> None:
         """reference_wait is over: a live reference generator that is producing is slow, not

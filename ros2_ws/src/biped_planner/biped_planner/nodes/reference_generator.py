@@ -2,9 +2,10 @@
 
 Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_state
 (biped_msgs/WalkingState: the walk's start time and phase, the reset epoch), sole_poses
-(geometry_msgs/PoseArray from the controller: where to stand before the first walk; odom until
-it arrives), joint_commands (sensor_msgs/JointState from the controller, on sim time: see below).
-balance_estimate (biped_msgs/BalanceEstimate from the controller, with step_adjustment.enabled).
+(geometry_msgs/PoseArray from the controller: where to stand before the first walk; the
+controller sends the measured soles before its first cycle; odom until they arrive only with
+standing_from_odom), joint_commands (sensor_msgs/JointState from the controller, on sim time:
+see below), balance_estimate (biped_msgs/BalanceEstimate from the controller, with step_adjustment.enabled).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds;
 step_adjustment (biped_msgs/StepAdjustment) when the online step adjuster moved the step under
@@ -86,6 +87,8 @@ from biped_planner.walking_state_machine import WALKING_PHASES
 WATCH_PERIOD = 0.1  # s of wall time between checks that walking_state still comes
 DIAGNOSTICS_PERIOD = 1.0  # s of wall time
 MAX_STAMP_LEAD = 1.0  # s: a joint command or walk start farther ahead of the clock is refused
+# s of wall time before a reference generator with no feet to stand on says so
+STANDING_PATIENCE = 5.0
 # s of wall time a reference waits for the balance_estimate of the period before it, when the
 # one of the period before that came: the controller sends it before its joint command, but DDS
 # does not order two topics, and on a loaded machine it can come second (the step adjuster would
@@ -120,8 +123,13 @@ class ReferenceGeneratorNode(Node):
             'dt': (0.02, 'sample period of the references, the MPC Ts (s)', (0.001, 1.0)),
             'rate': (50.0, 'references per second without a controller to answer (Hz)',
                      (0.1, 1000.0)),
-            'stance_width': (0.2, 'distance between the standing feet before a walk (m)',
-                             (0.05, 1.0)),
+            'stance_width': (0.2, 'distance between the standing feet before a walk, with '
+                             'standing_from_odom (m)', (0.05, 1.0)),
+            'standing_from_odom': (False, 'until the controller\'s sole_poses arrive, stand on '
+                                   'feet beside the odom pose (a graph without a controller); '
+                                   'false: wait for them (the controller sends the measured '
+                                   'soles before its first cycle, so a run starts the same '
+                                   'whichever message comes first)', None),
             'map_frame': ('map', 'frame of plans, sole poses and odometry', None),
             'max_footstep_distance': (1.0, 'largest distance between consecutive footsteps of '
                                       'a plan (m)', (0.05, 10.0)),
@@ -138,7 +146,8 @@ class ReferenceGeneratorNode(Node):
             'extension_wait': (2.0, "on sim time, how long (s of wall time) a reference waits "
                                "for the planner's extension due by its time while the planner "
                                'is alive; 0: never waits', (0.0, 60.0))},
-            read_only=('horizon', 'dt', 'rate', 'map_frame', 'state_timeout'))
+            read_only=('horizon', 'dt', 'rate', 'map_frame', 'state_timeout',
+                       'standing_from_odom'))
         get = lambda name: self.get_parameter(name).value  # noqa: E731
         self._horizon = max(2, int(get('horizon')))
         self._dt = float(get('dt'))
@@ -182,7 +191,9 @@ class ReferenceGeneratorNode(Node):
         self.create_subscription(WalkingState, 'walking_state', self._on_state, 10)
         # Only needed until a walk's reference exists: then unsubscribed (each message costs a
         # wake-up of this process at every control period).
-        self._odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, 10)
+        self._odom_sub = self.create_subscription(Odometry, 'odom', self._on_odom, 10) \
+            if get('standing_from_odom') else None
+        self._started_at = time.monotonic()
         self._soles_sub = None
         self._subscribe_soles()
         self._soles_seen = False
@@ -388,6 +399,9 @@ class ReferenceGeneratorNode(Node):
             self._soles_seen = True
         except (BipedPlannerError, ValueError) as error:
             self._reject('sole_poses', error)
+            return
+        if self._sent_ns is None:
+            self._on_held_clock()  # the controller waits for this first reference
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._session.reference is not None or self._soles_seen:
@@ -535,6 +549,12 @@ class ReferenceGeneratorNode(Node):
         if not clock.ros_time_is_active:
             return
         now_ns = clock.now().nanoseconds
+        if self._standing is None and self._session.reference is None and \
+                time.monotonic() - self._started_at > STANDING_PATIENCE:
+            self.get_logger().warning(
+                'no reference: nothing to stand on until the controller\'s sole_poses arrive'
+                + ('' if self._odom_sub is not None else ' (standing_from_odom: false)'),
+                throttle_duration_sec=5.0)
         self._send_held()  # still waiting for an extension, or the wait is over
         held, self._held_ns = now_ns == self._held_ns, now_ns
         # a moving clock is served by _on_timer and _on_command: no second copy from here
