@@ -199,3 +199,18 @@ def test_sample_at_takes_the_last_sample_stamped_at_or_before_a_time():
 def test_the_stated_start_is_ten_seconds_or_the_next_multiple_with_the_margin():
     assert stated_start_time(0.0) == stated_start_time(7.99) == 10.0
     assert stated_start_time(8.01) == 20.0
+
+
+def test_a_fall_is_timed_from_the_state_machine_not_from_when_the_runner_looked():
+    """The first walking_state the runner receives may come after the fall (a robot that fell
+    while the graph came up): its time is the FALLEN phase's start, stamp - time_in_phase."""
+    from types import SimpleNamespace
+
+    from biped_msgs.msg import WalkingState
+    from biped_tools.scenarios.trial import fall_time
+    fell_at_1_5 = [(4.52, WalkingState.FALLEN, 0, True, 'fell', 2, 3.02),
+                   (4.54, WalkingState.FALLEN, 0, True, 'fell', 2, 3.04)]
+    standing = (4.50, WalkingState.IDLE, 0, False, '', 2, 4.5)
+    assert fall_time(SimpleNamespace(series=SimpleNamespace(states=fell_at_1_5))) == \
+        pytest.approx(1.5)
+    assert fall_time(SimpleNamespace(series=SimpleNamespace(states=[standing]))) is None

@@ -66,11 +66,13 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
     pelvis = np.array(series.pelvis)
     result['start_pelvis_z'] = round(float(pelvis[0, 3]), 4)  # on the tiles: above flat 0.54 m
     result['stand_s'] = stand
-    result['fell_standing'] = bool(result['fallen'] and
-                                   sim0 + result['fall_time_s'] < walk_start)
+    fall_at = result['fall_sim_time_s']  # the state machine's, not when the runner looked
+    result['fell_standing'] = bool(result['fallen'] and fall_at < walk_start)
     if result['fallen']:  # how far it walked: before it began to fall (not where it landed)
-        pelvis = pelvis[pelvis[:, 0] <= sim0 + result['fall_time_s'] - 0.5]
-    reached = float(pelvis[:, 1].max()) if len(pelvis) else 0.0
+        pelvis = pelvis[pelvis[:, 0] <= fall_at - 0.5]
+    # a fall while standing walked nowhere (the samples the runner saw depend on the load)
+    reached = float(pelvis[:, 1].max()) if len(pelvis) and not result['fell_standing'] \
+        else 0.0
     result.update({'tile_area_cm2': area_cm2, 'side_m': side, 'seed': seed,
                    'heights_m': list(heights),
                    'step_length_m': step_length, 'distance_m': round(reached, 3),

@@ -8,7 +8,7 @@ import shutil
 import time
 from typing import Callable, Dict, List, Optional
 
-from biped_msgs.msg import WalkCommand
+from biped_msgs.msg import WalkCommand, WalkingState
 
 from biped_tools.graph_session import GraphSession, IDLE
 
@@ -246,8 +246,14 @@ def request_push(session: GraphSession, force: float, fx: float, fy: float, at: 
 
 
 def fall_time(session: GraphSession) -> Optional[float]:
-    fallen = [s[0] for s in session.series.states if s[3]]
-    return fallen[0] if fallen else None
+    """Sim time the state machine saw the fall: the start of its FALLEN phase (stamp -
+    time_in_phase). A robot that fell while the graph came up, before this runner's first
+    sample, gets its own fall time, not the time the runner happened to look (which depends on
+    the load)."""
+    for stamp, phase, _, fallen, _, _, in_phase in session.series.states:
+        if fallen:
+            return stamp - in_phase if phase == WalkingState.FALLEN else stamp
+    return None
 
 
 def base_result(trial: Trial, session: GraphSession, wall0: float, sim0: float) -> dict:
