@@ -122,6 +122,9 @@ class WalkingControllerParams:
     ankle_damping_gain: float = parameter(0.015, 'foot damping: ankle roll and pitch admittance '
                                           'on the torque error (rad/(N m s))', low=0.0,
                                           high=1.0)
+    ankle_damping_single_support_gain: float = parameter(
+        0.01, 'foot damping of the only supporting foot (rad/(N m s)): a single support needs '
+        'a stiffer ankle than two feet settling on uneven ground', low=0.0, high=1.0)
     ankle_damping_rate_limit: float = parameter(1.0, 'largest ankle offset speed (rad/s)',
                                                 low=0.001, high=10.0)
     ankle_damping_angle_limit: float = parameter(0.3, 'largest ankle offset (rad)', low=0.0,

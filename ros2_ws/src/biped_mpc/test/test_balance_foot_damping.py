@@ -23,6 +23,22 @@ def test_step_response_is_the_first_order_closed_form():
     np.testing.assert_allclose(result.torque_error, error)
 
 
+def test_the_only_supporting_foot_follows_the_single_support_gain():
+    """Two feet settling on uneven ground yield more than the one foot the robot balances on:
+    the same closed form with single_support_gain on both axes."""
+    params = FootDampingParams(roll_gain=0.015, pitch_gain=0.015, single_support_gain=0.01,
+                               spring_time_constant=0.8)
+    double, single = FootDamping(params), FootDamping(params)
+    error = np.array([5.0, -3.0])
+    for k in range(1, 50):
+        shape = 0.8 * (1.0 - math.exp(-k * DT / 0.8)) * error
+        np.testing.assert_allclose(double.update(DT, True, [0.0, 0.0], error).offset,
+                                   0.015 * shape, atol=1e-15)
+        np.testing.assert_allclose(single.update(DT, True, [0.0, 0.0], error,
+                                                 single_support=True).offset,
+                                   0.01 * shape, atol=1e-15)
+
+
 def test_rate_limit_then_angle_limit():
     params = FootDampingParams(rate_limit=0.2, angle_limit=0.15)
     damping = FootDamping(params)

@@ -79,6 +79,7 @@ class BalanceLoopParams:
         p = params
         damping = FootDampingParams(
             roll_gain=p.ankle_damping_gain, pitch_gain=p.ankle_damping_gain,
+            single_support_gain=p.ankle_damping_single_support_gain,
             spring_time_constant=p.ankle_spring_time_constant,
             rate_limit=p.ankle_damping_rate_limit, angle_limit=p.ankle_damping_angle_limit)
         stabilizer = StabilizerParams(

@@ -16,6 +16,9 @@ class FootDampingParams:
     roll_gain: float = parameter(0.01, 'roll admittance K_d (rad/(N m s))', low=0.0, high=1.0)
     pitch_gain: float = parameter(0.01, 'pitch admittance K_d (rad/(N m s))', low=0.0,
                                   high=1.0)
+    single_support_gain: float = parameter(
+        0.01, 'roll and pitch admittance of the only supporting foot (rad/(N m s))', low=0.0,
+        high=1.0)
     spring_time_constant: float = parameter(
         1.0, 'time constant T_s of the weak spring back to the nominal sole angle (s)',
         low=0.01, high=1000.0)
@@ -91,11 +94,12 @@ class FootDamping:
         self._offset = np.zeros(2)
 
     def update(self, dt: float, in_contact: bool, desired_torque,
-               measured_torque) -> FootDampingResult:
+               measured_torque, single_support: bool = False) -> FootDampingResult:
         """One control cycle.
 
         :param dt: control period (s), > 0
         :param in_contact: the foot supports (touchdown_detector's state)
+        :param single_support: it is the only supporting foot: single_support_gain applies
         :param desired_torque: (2,) desired roll and pitch ground torques, sole frame (N m)
         :param measured_torque: (2,) measured ones, sole frame (N m)
         :return: the offsets and what limited them
@@ -113,7 +117,8 @@ class FootDamping:
             return FootDampingResult(self._offset.copy(), (self._offset - previous) / dt,
                                      np.zeros(2), False, False)
         decay = math.exp(-dt / p.spring_time_constant)
-        gains = np.array([p.roll_gain, p.pitch_gain])
+        gains = (np.full(2, p.single_support_gain) if single_support
+                 else np.array([p.roll_gain, p.pitch_gain]))
         free = decay * previous + (1.0 - decay) * gains * error * p.spring_time_constant
         step = p.rate_limit * dt
         limited = np.clip(free - previous, -step, step)

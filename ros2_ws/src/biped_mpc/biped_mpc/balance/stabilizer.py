@@ -240,7 +240,8 @@ class Stabilizer:
         ankle_offsets, torque_errors = np.zeros((2, 2)), np.zeros((2, 2))
         for side in SIDES:
             result = self.damping[side].update(dt, contacts[side], local[side, 3:5],
-                                               measurement.wrenches[side].local_torque[:2])
+                                               measurement.wrenches[side].local_torque[:2],
+                                               single_support=len(touching) == 1)
             ankle_offsets[side], torque_errors[side] = result.offset, result.torque_error
         double = len(touching) == 2
         difference = self.force_difference.update(
