@@ -5,7 +5,8 @@ Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_st
 (geometry_msgs/PoseArray from the controller: where to stand before the first walk; the
 controller sends the measured soles before its first cycle; odom until they arrive only with
 standing_from_odom), joint_commands (sensor_msgs/JointState from the controller, on sim time:
-see below), balance_estimate (biped_msgs/BalanceEstimate from the controller, with step_adjustment.enabled).
+see below), balance_estimate (biped_msgs/BalanceEstimate from the controller, with
+step_adjustment.enabled).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds;
 step_adjustment (biped_msgs/StepAdjustment) when the online step adjuster moved the step under
