@@ -19,7 +19,7 @@ def run_video(args, make_trial) -> int:
     elif args.which == 'push':
         push.run(trial, [80.0, 100.0, 120.0])
     elif args.which == 'push-adjusted':  # the graph test's push, step adjustment on
-        push_directions.run(trial, 0.0, 'early_single', 'in_place', [160.0], True,
+        push_directions.run(trial, 270.0, 'early_single_left', 'in_place', [140.0], True,
                             interval=3.0, plot=True)
     else:
         terrain.run(trial, 400, seed=1, side=2.0)
