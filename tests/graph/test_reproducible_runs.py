@@ -4,6 +4,7 @@ Lockstep holds the clock until the controller answers (simulator wait_for_contro
 for live producers instead of timing out, and the walk starts at the command's start_time, not
 when the message happens to arrive: the physics sees the same inputs at the same sim times.
 """
+from contextlib import contextmanager
 import subprocess
 import sys
 
@@ -29,34 +30,40 @@ PUSH = (0.0, 150.0, START + 2.0)  # N, N, s: sideways, 2 s into the walk (a sing
 GOAL_WALK = (('command', 2), ('goal_x', 1.5))  # GOTO: the planner plans anew after adjustments
 
 
-def walk(busy_processes: int, domain_id: int, overrides=None, push=None,
-         command=(('command', 1),)) -> tuple:
-    """A walk (in place by default) from START, optionally pushed; (walk start, {t: pelvis},
-    plans the planner republished after START + 2 s)."""
-    hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-            for _ in range(busy_processes)]
+@contextmanager
+def busy_loops(count: int):
+    """count Python processes spinning on the cores while the block runs (a loaded machine)."""
+    hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass']) for _ in range(count)]
     try:
-        with GraphSession(domain_id, overrides=overrides, log=print) as session:
-            session.wait_until_ready()
-            assert session.sim_time() < START - HORIZON - 5.0
-            if push is not None:
-                fx, fy, at = push
-                assert session.push(fx, fy, 0.1, at=at)
-            plan = session.plan_answering(
-                lambda: session.send_command(start_time=START, **dict(command)))
-            assert plan is not None and plan.status == 0, plan
-            arrived = session.sim_time()
-            assert arrived < START - HORIZON, f'the plan came at t={arrived:.2f} s'
-            assert session.spin_until(lambda: session.sim_time() >= START + WALK, 240)
-            walk_start = session.walk_start_time
-            pelvis = np.array(session.series.pelvis)
-            adjusted = [p for p in session.series.plans if p.request_id == 0 and
-                        p.header.stamp.sec + p.header.stamp.nanosec * 1e-9 > START + 2.0]
-            assert not session.fallen()
+        yield
     finally:
         for hog in hogs:
             hog.kill()
             hog.wait()
+
+
+def walk(busy_processes: int, domain_id: int, overrides=None, push=None,
+         command=(('command', 1),)) -> tuple:
+    """A walk (in place by default) from START, optionally pushed; (walk start, {t: pelvis},
+    plans the planner republished after START + 2 s)."""
+    with busy_loops(busy_processes), \
+            GraphSession(domain_id, overrides=overrides, log=print) as session:
+        session.wait_until_ready()
+        assert session.sim_time() < START - HORIZON - 5.0
+        if push is not None:
+            fx, fy, at = push
+            assert session.push(fx, fy, 0.1, at=at)
+        plan = session.plan_answering(
+            lambda: session.send_command(start_time=START, **dict(command)))
+        assert plan is not None and plan.status == 0, plan
+        arrived = session.sim_time()
+        assert arrived < START - HORIZON, f'the plan came at t={arrived:.2f} s'
+        assert session.spin_until(lambda: session.sim_time() >= START + WALK, 240)
+        walk_start = session.walk_start_time
+        pelvis = np.array(session.series.pelvis)
+        adjusted = [p for p in session.series.plans if p.request_id == 0 and
+                    p.header.stamp.sec + p.header.stamp.nanosec * 1e-9 > START + 2.0]
+        assert not session.fallen()
     return walk_start, {round(row[0], 3): row[1:4] for row in pelvis}, len(adjusted)
 
 
@@ -103,16 +110,10 @@ def test_a_fall_while_the_graph_comes_up_on_the_tiles_has_one_time_quiet_and_loa
     from biped_tools.scenarios.trial import Trial
     results = []
     for busy, domain in ((0, domain_id_for_worker()), (2, domain_id_for_worker() + 2)):
-        hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-                for _ in range(busy)]
-        try:
+        with busy_loops(busy):
             results.append(terrain.run(Trial('terrain', 'three_mass', f'busy{busy}', tmp_path,
                                              domain, record=False, log=lambda line: None,
                                              node_log=print), 100, seed=2))
-        finally:
-            for hog in hogs:
-                hog.kill()
-                hog.wait()
     quiet, loaded = results
     assert quiet['fell_standing'] and loaded['fell_standing']
     assert quiet['fall_sim_time_s'] == loaded['fall_sim_time_s']
