@@ -113,6 +113,23 @@ def test_it_stands_on_the_controllers_soles_not_on_odom(gen):
     assert window.hip[0] == pytest.approx([0.5, 0.0])
 
 
+def test_soles_that_settle_by_micrometres_leave_the_standing_reference_as_it_is(gen):
+    """Whichever period's soles came last must not change the references (a loaded machine
+    delivers them later); a foot that slid does."""
+    g = gen
+    g['soles'].publish(sole_poses(0.5))
+    window, _ = newest_window(g)
+    assert window.left_foot[0, 0] == 0.5
+    g['soles'].publish(sole_poses(0.5 + 1e-4))
+    spin_until(g['executor'], lambda: False, 0.2)
+    window, _ = newest_window(g)
+    assert window.left_foot[0, 0] == 0.5 and window.hip[-1, 0] == 0.5
+    g['soles'].publish(sole_poses(0.52))
+    spin_until(g['executor'], lambda: False, 0.2)
+    window, _ = newest_window(g)
+    assert window.left_foot[0, 0] == pytest.approx(0.52)
+
+
 def test_with_standing_from_odom_it_stands_beside_odom_until_the_soles_come(
         ros_context, executor):
     """A graph without a controller: feet stance_width apart beside the odom pose."""

@@ -57,6 +57,7 @@ from biped_planner.pose2d import Pose2D
 from biped_planner.pose_checks import check_pose, PoseBounds
 from biped_planner.reference_session import check_footsteps
 from biped_planner.scheduled_commands import ScheduledCommands
+from biped_planner.standing_feet import settled_feet
 from biped_planner.step_timing import StepTiming
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import Phase, WALKING_PHASES
@@ -122,6 +123,7 @@ class FootstepPlannerNode(Node):
                                     lookahead=self.get_parameter('teleop_lookahead').value)
         self._astar = None
         self._pose = None
+        self._feet = None  # the standing feet the pose is between (sole_poses)
         self._state = None
         self._scheduled = ScheduledCommands()  # teleop commands stated for a later step
         self._plan_pub = self.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
@@ -173,12 +175,13 @@ class FootstepPlannerNode(Node):
         try:
             if msg.header.frame_id != self._frame:
                 raise MapError(f'frame {msg.header.frame_id!r}, expected {self._frame!r}')
-            pose = body_between(feet_from_sole_poses(msg, self._bounds))
+            measured = feet_from_sole_poses(msg, self._bounds)
         except (ValueError, BipedPlannerError) as error:
             self._reject('sole_poses', error)
             return
         if not self._walking():
-            self._pose = pose
+            self._feet = settled_feet(self._feet if self._soles_seen else None, measured)
+            self._pose = body_between(self._feet)
             self._soles_seen = True
             self._offer_plan_walk()
 

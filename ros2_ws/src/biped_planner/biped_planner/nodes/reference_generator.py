@@ -81,6 +81,7 @@ from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_session import check_footsteps, ReferenceSession
 from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
+from biped_planner.standing_feet import settled_feet
 from biped_planner.step_timing import StepTiming
 from biped_planner.walk_command import MAX_START_LEAD
 from biped_planner.walking_state_machine import WALKING_PHASES
@@ -396,7 +397,9 @@ class ReferenceGeneratorNode(Node):
         try:
             if msg.header.frame_id != self._frame:
                 raise ValueError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
-            self._standing = feet_from_sole_poses(msg, self._bounds)
+            measured = feet_from_sole_poses(msg, self._bounds)
+            self._standing = settled_feet(self._standing if self._soles_seen else None,
+                                          measured)
             self._soles_seen = True
         except (BipedPlannerError, ValueError) as error:
             self._reject('sole_poses', error)
