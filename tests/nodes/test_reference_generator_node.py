@@ -292,6 +292,30 @@ def test_an_extension_that_does_not_come_is_waited_for_once_not_at_every_step(ge
     del token
 
 
+def test_after_a_fall_a_reference_does_not_wait_for_an_extension(gen):
+    """The planner extends a walk at the steps the state machine reports; after FALLEN none
+    comes, and a wait for one at every step made a fallen graph crawl (0.5 s of wall time
+    per step, the simulator's clock standing)."""
+    import re
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = gen
+    token = LivelinessToken(g['client'], 'footstep_plan')
+    continuous_walk(g)
+    passed = [float(re.search(r'extension stamped t=([0-9.]+) s', line).group(1))
+              for line in g['rosout'].lines if 'without the planner' in line]
+    state(g, WalkingState.FALLEN)
+    due = round(max(passed) + 0.6, 3)
+    t = round(due + 0.36, 2)
+    count = len(g['refs'].messages)
+    held_clock_command(g, t)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]),
+        0.25), 'the reference after the fall waited'
+    spin_until(g['executor'], lambda: False, 0.2)
+    assert not g['rosout'].has(f'extension stamped t={due:.3f} s', 'waits')
+    del token
+
+
 def test_without_a_live_planner_a_reference_does_not_wait(gen):
     g = gen
     continuous_walk(g)

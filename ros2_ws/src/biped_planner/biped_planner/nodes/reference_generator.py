@@ -442,8 +442,10 @@ class ReferenceGeneratorNode(Node):
         limit = self.get_parameter('extension_wait').value
         reference = self._session.reference
         clock = self.get_clock()
+        # the planner extends a walk at the steps the state machine reports: none after a fall
+        # or a stop, and the clock must not stand waiting for one then
         if limit <= 0.0 or reference is None or not clock.ros_time_is_active or \
-                self._planner_behind:
+                self._planner_behind or self._phase not in WALKING_PHASES:
             return False
         plan_id = self._session.plan_id
         newest, (adjusted_plan, adjusted) = self._newest_extension, self._adjustments
