@@ -53,6 +53,11 @@ KNOWN_NODES: Dict[str, NodeSpec] = {spec.name: spec for spec in [
 ]}
 
 # The control path: what runs every control period in lockstep (bringup --compose control).
+# A topic each node publishes from its start: the lockstep clock starts once all of the graph's
+# have a publisher (simulator wait_for_publishers), so a command sent when the graph is up meets
+# it at the same sim time however slowly the processes started.
+STARTUP_TOPICS = {'map_server': 'map', 'state_machine': 'walking_state',
+                  'footstep_planner': 'footstep_plan', 'reference_generator': 'reference_trajectory'}
 CONTROL_PATH = ('simulator', 'reference_generator', 'mpc_controller')
 CONTAINER = Path(__file__).resolve().parent.parent / 'node_container.py'
 
@@ -176,6 +181,10 @@ class NodeGraph:
         if name == 'simulator':
             args += ['-p', f'backend:={self.options.backend}',
                      '-p', f'gui:={str(self.options.gui).lower()}']
+            awaited = [STARTUP_TOPICS[node] for node in self.options.nodes
+                       if node in STARTUP_TOPICS]
+            if awaited:
+                args += ['-p', f'wait_for_publishers:={",".join(awaited)}']
         if name == 'map_server':
             args += self.map_server_arguments()
         if name == 'state_machine' and 'footstep_planner' not in self.options.nodes:

@@ -1,5 +1,6 @@
 """Node-level tests of the simulator: real PyBullet, real rclpy and DDS, in process."""
 import math
+import time
 
 from biped_msgs.srv import Push, SetTerrain
 from geometry_msgs.msg import WrenchStamped
@@ -74,6 +75,43 @@ def test_lockstep_waits_for_the_controller_command(sim, ros_context):
         assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
         last = sim['joints'].messages[-1]
         answer.header = last.header
+
+
+def test_lockstep_starts_the_clock_once_the_awaited_topics_have_publishers(ros_context,
+                                                                          executor):
+    """A controller that answers does not start the clock while a node of the graph is not up
+    yet: a command sent once the graph is up then meets it at the same sim time."""
+    from biped_msgs.msg import FootstepPlan, WalkingState
+    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('wait_for_controller', value=True), Parameter('lockstep_timeout', value=0.1),
+        Parameter('wait_for_publishers', value='walking_state, footstep_plan')]))
+    client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
+    joints = Collector(client, JointState, 'joint_states', 100)
+    clock = Collector(client, Clock, '/clock', 100)
+    rosout = RosoutLines(client)
+    commands = client.create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(executor, commands)
+
+    def answer_for(seconds: float) -> None:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            if joints.messages:
+                last = joints.messages[-1]
+                commands.publish(JointState(header=last.header, name=list(last.name[:12]),
+                                            position=list(last.position[:12])))
+            spin_until(executor, lambda: False, 0.02)
+
+    answer_for(1.0)
+    stamps = {(m.clock.sec, m.clock.nanosec) for m in clock.messages}
+    assert stamps <= {(0, 0)}, f'the clock ran: {sorted(stamps)[-1]}'
+    assert rosout.has('holds the clock', 'walking_state, footstep_plan')
+    state = client.create_publisher(WalkingState, 'walking_state', 10)
+    answer_for(0.5)
+    assert {(m.clock.sec, m.clock.nanosec) for m in clock.messages} <= {(0, 0)}
+    plan = client.create_publisher(FootstepPlan, 'footstep_plan', 10)
+    answer_for(1.0)
+    assert max(m.clock.sec + m.clock.nanosec * 1e-9 for m in clock.messages) >= 0.1
+    del node, state, plan
 
 
 def test_push_service_moves_the_robot_and_rejects_bad_requests(sim):

@@ -89,6 +89,7 @@ class SimulatorNode(Node):
                                                           self._names)
         self._reject = RejectionLog(self.get_logger().error)
         self._controller_seen = False  # a command has come since the start
+        self._graph_up = False  # the wait_for_publishers topics all had a publisher once
         self._controller_lost = False
         self._hold_until = -math.inf  # sim time until which commands are ignored (reset)
         self._setpoints = self._nominal_setpoints()
@@ -243,7 +244,7 @@ class SimulatorNode(Node):
                                    f't={self._hold_until:.2f} s', throttle_duration_sec=5.0)
         else:
             self._setpoints, self._velocities = setpoints, velocities
-        if self._lockstep() and stamp >= now - 1e-6:
+        if self._lockstep() and stamp >= now - 1e-6 and self._graph_up:
             self._step()
 
     def _real_time_period(self) -> float:
@@ -259,6 +260,15 @@ class SimulatorNode(Node):
         if self._lockstep() and not self._controller_seen and \
                 self.get_parameter('wait_for_controller').value:
             self._hold_clock_for_controller(now, timeout)
+            return
+        if self._lockstep() and not self._graph_up:
+            missing = self._topics_without_publishers()
+            if missing:
+                self._hold_clock_for_publishers(now, timeout, missing)
+                return
+            self._graph_up = True
+            if self._controller_seen and self._last_command_stamp >= self._now() - 1e-6:
+                self._step()  # the command answering the held time
             return
         if not self._lockstep() or self._controller_lost or not (
                 self._controller_seen or self._command_sub.get_publisher_count() > 0):
@@ -293,6 +303,23 @@ class SimulatorNode(Node):
         self._last_step_wall = now
         self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s until a '
                                'controller answers on joint_commands', throttle_duration_sec=5.0)
+        if self._readings is not None:
+            self._publish(self._readings)
+
+    def _topics_without_publishers(self) -> list:
+        topics = [t.strip() for t in self.get_parameter('wait_for_publishers').value.split(',')]
+        return [t for t in topics if t and self.count_publishers(t) == 0]
+
+    def _hold_clock_for_publishers(self, now: float, timeout: float, missing: list) -> None:
+        """Before the clock starts: the sensors go out again for the controller, whose
+        answers are kept, while the awaited nodes come up."""
+        if now - self._last_step_wall < timeout:
+            return
+        self._last_step_wall = now
+        self._last_command_wall = now  # the controller answered what it was sent
+        self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s until '
+                               f'{", ".join(missing)} have a publisher (wait_for_publishers)',
+                               throttle_duration_sec=5.0)
         if self._readings is not None:
             self._publish(self._readings)
 

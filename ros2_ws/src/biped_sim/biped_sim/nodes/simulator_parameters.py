@@ -58,6 +58,10 @@ SIMULATOR_PARAMETERS = {
                             'first sensor readings again every lockstep_timeout) until the '
                             'first joint command, so that a run does not depend on how long '
                             'the controller took to start', None),
+    'wait_for_publishers': ('', 'lockstep: comma-separated topics (e.g. walking_state,'
+                            'footstep_plan) that must each have a publisher before the clock '
+                            'starts: a user\'s command then reaches a graph that started at '
+                            'the same sim time however slowly its processes came up', None),
     'hung_controller_timeout': (10.0, 'wall time without a command after which a controller '
                                 'whose process is alive is lost all the same (hung) (s)',
                                 (0.1, 3600.0)),
@@ -97,7 +101,7 @@ SIMULATOR_PARAMETERS = {
 
 # Read at start only (declared read-only): the rest can change while running.
 LIVE_PARAMETERS = ('lockstep', 'lockstep_timeout', 'hung_controller_timeout', 'real_time_factor',
-                   'wait_for_controller',
+                   'wait_for_controller', 'wait_for_publishers',
                    'setpoint_parts', 'command_margin', 'max_command_velocity', 'reset_hold',
                    'start_x', 'start_y', 'start_yaw')
 READ_ONLY = tuple(name for name in SIMULATOR_PARAMETERS if name not in LIVE_PARAMETERS)
