@@ -57,7 +57,8 @@ KNOWN_NODES: Dict[str, NodeSpec] = {spec.name: spec for spec in [
 # have a publisher (simulator wait_for_publishers), so a command sent when the graph is up meets
 # it at the same sim time however slowly the processes started.
 STARTUP_TOPICS = {'map_server': 'map', 'state_machine': 'walking_state',
-                  'footstep_planner': 'footstep_plan', 'reference_generator': 'reference_trajectory'}
+                  'footstep_planner': 'footstep_plan',
+                  'reference_generator': 'reference_trajectory'}
 CONTROL_PATH = ('simulator', 'reference_generator', 'mpc_controller')
 CONTAINER = Path(__file__).resolve().parent.parent / 'node_container.py'
 

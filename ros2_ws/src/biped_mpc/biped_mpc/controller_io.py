@@ -147,6 +147,8 @@ class ControllerOutput:
         vertical drift (m)
     :param landing_modes: (left, right) swing_landing modes ('swinging', 'seeking', 'landed',
         'failed'; 'support' for a foot the plan has on the ground)
+    :param trunk_tilt: (2,) roll and pitch of the pelvis target about its heading frame: the
+        stabilizer's hip strategy (rad)
     """
 
     joint_setpoints: np.ndarray
@@ -178,6 +180,7 @@ class ControllerOutput:
     ankle_offsets: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
     vertical_offsets: np.ndarray = field(default_factory=lambda: np.zeros(2))
     landing_modes: tuple = ('support', 'support')
+    trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @property
     def cost(self) -> np.ndarray:

@@ -103,6 +103,20 @@ class WalkingControllerParams:
                                                     'back to zero (s)', low=0.01, high=1000.0)
     com_admittance_limit: float = parameter(0.03, 'largest COM admittance offset per axis (m)',
                                             low=0.0, high=0.2)
+    hip_strategy_gain: float = parameter(
+        0.0, 'hip strategy: fraction of the desired ZMP beyond the soles produced as a moment '
+        'by swinging the trunk (the IK\'s pelvis orientation) about the hips; 0 disables it',
+        low=0.0, high=5.0)
+    hip_strategy_inertia: float = parameter(0.8, 'inertia of the trunk (pelvis and above) about '
+                                            'the hips, roll and pitch (kg m^2)', low=0.01,
+                                            high=100.0)
+    hip_strategy_return_frequency: float = parameter(
+        6.0, 'natural frequency of the trunk\'s critically damped return upright (rad/s)',
+        low=0.0, high=100.0)
+    hip_strategy_rate_limit: float = parameter(5.0, 'largest trunk swing speed (rad/s)',
+                                               low=0.01, high=50.0)
+    hip_strategy_angle_limit: float = parameter(0.45, 'largest trunk swing angle (rad)',
+                                                low=0.0, high=1.0)
     ft_cutoff_frequency: float = parameter(15.0, 'low-pass cut-off of the ankle F/T wrenches '
                                            '(Hz)', low=0.1, high=1000.0)
     ft_sensor_height: float = parameter(0.04, 'ankle F/T sensor origin above the sole (m)',

@@ -40,6 +40,8 @@ class IkTargets:
     :param yaw: pelvis heading (rad)
     :param foot_tilts: (2, 2) left and right sole roll and pitch about the sole's own x and y
         axes after its yaw (rad): the stabilizer's ankle offsets; zero for flat soles
+    :param trunk_tilt: (2,) roll and pitch of the pelvis about its heading frame (rad): the
+        stabilizer's hip strategy; zero for an upright trunk
     """
 
     pelvis: np.ndarray
@@ -47,6 +49,7 @@ class IkTargets:
     right_foot: np.ndarray
     yaw: float
     foot_tilts: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+    trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
 def ik_targets(next_state: np.ndarray, feet_next: np.ndarray, support_next: int,

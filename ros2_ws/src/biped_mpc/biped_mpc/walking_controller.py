@@ -414,8 +414,9 @@ class WalkingController:
         pelvis_command = self._servo.command(targets.pelvis, pelvis)
         ik_status = (IK_REACHABLE, IK_REACHABLE)
         try:
-            pelvis_rotation = rotation_z(targets.yaw) @ posture_correction(
-                rotation, self.params.tilt_gain)
+            trunk = targets.trunk_tilt
+            pelvis_rotation = rotation_z(targets.yaw) @ rotation_x(trunk[0]) @ \
+                rotation_y(trunk[1]) @ posture_correction(rotation, self.params.tilt_gain)
             left, right = targets.left_foot, targets.right_foot
             tilts = targets.foot_tilts
             solution = self.ik.solve(
@@ -449,7 +450,8 @@ class WalkingController:
                          foot_contacts=tuple(sensed.contacts),
                          ankle_offsets=balance.stabilizer.ankle_offsets.copy(),
                          vertical_offsets=balance.stabilizer.vertical_offsets.copy(),
-                         landing_modes=balance.landing_modes)
+                         landing_modes=balance.landing_modes,
+                         trunk_tilt=targets.trunk_tilt.copy())
         return ControllerOutput(
             joint_setpoints=ik.q.copy(), joint_velocities=velocities, status=status,
             mpc_status=mpc.mpc_status, solve_time=mpc.solve_time, state=estimate.state,

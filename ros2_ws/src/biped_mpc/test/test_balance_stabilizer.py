@@ -140,3 +140,18 @@ def test_bad_values_are_refused():
                                 FEET, np.zeros(2))
     with pytest.raises(InputError):
         Stabilizer().update(DT, REFERENCE, bad)
+
+
+def test_the_zmp_beyond_the_soles_is_reported_as_the_excess():
+    """A DCM 5 cm right of the right sole asks for a ZMP farther right than the sole reaches:
+    the clamp keeps it on the sole and the rest is the excess, towards the DCM; inside the
+    soles there is none."""
+    inside = run(Stabilizer(), 3)
+    np.testing.assert_array_equal(inside.zmp_excess, 0.0)
+    output = run(Stabilizer(), 1, dcm=(0.0, -0.15), contacts=(False, True),
+                 planned=(False, True))
+    assert output.diagnostics.zmp_clamped
+    assert output.zmp_excess[1] < -0.05 and abs(output.zmp_excess[0]) < 1e-9
+    half_width = (Stabilizer().params.distribution.sole_width
+                  - 2.0 * Stabilizer().params.distribution.cop_margin) / 2.0
+    assert output.zmp[1] == pytest.approx(FEET[RIGHT, 1] - half_width)

@@ -103,3 +103,28 @@ def test_controller_balance_fields_are_checked(coman_like_model):
         WalkingControllerParams(robot=coman_like_model, balance='closed')
     with pytest.raises(ConfigError, match='cop_margin'):
         WalkingControllerParams(robot=coman_like_model, cop_margin=0.04, sole_width=0.05)
+
+
+def test_the_hip_strategy_swings_the_trunk_in_single_support_only(coman_like_model):
+    """The DCM far right of the right sole: on the right foot alone the pelvis target rolls
+    towards the fall (positive roll, its top towards -y); planned on both feet it stays
+    upright (sole edges in a double support are the foot damping's)."""
+    params = WalkingControllerParams(robot=coman_like_model, hip_strategy_gain=1.0)
+    loop = BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
+    soles = flat_soles()
+    targets = IkTargets(np.array([0.0, 0.0, 0.54]), np.array([0.0, 0.07, 0.05, 0.0]),
+                        np.array([0.0, -0.07, 0.0, 0.0]), 0.0)
+    reference = StabilizerReference(zmp=np.zeros(2), dcm=np.zeros(2))
+    wrenches = np.array([sensor_wrench(0.0), sensor_wrench(300.0)])
+    rolls = {}
+    for planned in ((False, True), (True, True)):
+        loop.reset(None)
+        for k in range(10):
+            sensed = loop.sense(k * DT, DT, wrenches, soles, None)
+            result = loop.update(k * DT, DT, targets, sensed, soles,
+                                 np.array([0.0, -0.1, 0.54]), reference,
+                                 np.array([0.0, -0.1, 0.497]), np.array([0.0, -0.2]),
+                                 planned)
+        rolls[planned] = result.targets.trunk_tilt
+    assert rolls[(False, True)][0] > 0.01 and abs(rolls[(False, True)][1]) < 1e-9
+    np.testing.assert_array_equal(rolls[(True, True)], 0.0)

@@ -128,6 +128,8 @@ class StabilizerOutput:
     :param ankle_offsets: (2, 2) roll and pitch offsets of each sole orientation target (rad)
     :param vertical_offsets: (2,) offsets of each sole height target (m)
     :param diagnostics: errors and states of the cycle
+    :param zmp_excess: (2,) the DCM feedback's desired ZMP beyond the support polygon: before
+        the clamp minus after it (m); zero inside it and in the air
     """
 
     zmp: np.ndarray
@@ -136,6 +138,7 @@ class StabilizerOutput:
     ankle_offsets: np.ndarray
     vertical_offsets: np.ndarray
     diagnostics: StabilizerDiagnostics
+    zmp_excess: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
 class Stabilizer:
@@ -257,5 +260,7 @@ class Stabilizer:
             measured_zmp, dcm.zmp - measured_zmp, dcm.dcm_error, dcm.integral, dcm.clamped,
             torque_errors, difference.error, tuple(bool(c) for c in measurement.contacts),
             in_the_air, status)
-        return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics)
+        excess = dcm.unclamped_zmp - dcm.zmp if dcm.clamped else np.zeros(2)
+        return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics,
+                                excess)
 

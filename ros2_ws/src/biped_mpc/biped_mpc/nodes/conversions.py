@@ -72,6 +72,7 @@ def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
     diag.ankle_offsets = floats(output.ankle_offsets)
     diag.vertical_offsets = floats(output.vertical_offsets)
     diag.landing_modes = [str(m) for m in output.landing_modes]
+    diag.trunk_tilt = floats(output.trunk_tilt)
 
 
 def deadline_terms(diag: ControllerDiagnostics, monitor) -> None:

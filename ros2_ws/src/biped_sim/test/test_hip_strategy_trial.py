@@ -1,0 +1,39 @@
+"""The hip strategy on the PyBullet humanoid: a push towards the stance foot that rolls the
+robot over its sole edge is walked through when the trunk swings."""
+import math
+
+import pytest
+
+from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_sim.push_trial import HUMANOID_ADJUSTER, run_push_trial
+from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.robot_description import coman_like
+
+# N for 100 ms towards the stance foot (270 deg, early in a right single support): the swing
+# foot may not cross it, so until the stance foot steps out only the ankle and the trunk act
+TOWARDS_STANCE_FORCE = 110.0
+
+
+def trial(robot, **overrides):
+    sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
+    try:
+        controller = WalkingController(WalkingControllerParams(
+            robot=robot.controller_model, balance='stabilizer', swing_target='planned',
+            **overrides))
+        return run_push_trial(sim, controller, robot.controller_model, TOWARDS_STANCE_FORCE,
+                              math.radians(270.0), 'early_single', HUMANOID_ADJUSTER)
+    finally:
+        sim.close()
+
+
+def test_a_push_towards_the_stance_foot_is_walked_through_with_the_trunk_swing():
+    robot = coman_like()
+    assert trial(robot, hip_strategy_gain=0.0).fallen
+    assert not trial(robot, hip_strategy_gain=1.0).fallen
+
+
+@pytest.mark.parametrize('gain', [-1.0, 6.0])
+def test_the_gain_is_range_checked(gain):
+    from biped_mpc.errors import ConfigError
+    with pytest.raises(ConfigError, match='hip_strategy_gain'):
+        WalkingControllerParams(robot=coman_like().controller_model, hip_strategy_gain=gain)
