@@ -52,7 +52,8 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         session.send_command(command=WalkCommand.OMNI, step_length=step_length,
                              start_time=walk_start)
         exit_x = side - BEHIND + EXIT_MARGIN
-        budget = (exit_x / step_length) * 0.6 * 1.5 + 10.0 + stand
+        # from now: the walk starts at walk_start (20 s when the graph was ready after 8 s)
+        budget = walk_start - session.sim_time() + (exit_x / step_length) * 0.6 * 1.5 + 10.0
         crossed = drive(session, lambda t: session.series.pelvis[-1][1] >= exit_x, budget,
                         progress)
         stood, result_stop = False, None
