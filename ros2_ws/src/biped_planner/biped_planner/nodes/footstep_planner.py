@@ -180,7 +180,7 @@ class FootstepPlannerNode(Node):
             self._reject('sole_poses', error)
             return
         if not self._walking():
-            self._feet = settled_feet(self._feet if self._soles_seen else None, measured)
+            self._feet = settled_feet(self._feet, measured)
             self._pose = body_between(self._feet)
             self._soles_seen = True
             self._offer_plan_walk()

@@ -259,12 +259,20 @@ class SimulatorNode(Node):
         now = time.monotonic()
         if self._lockstep() and not self._controller_seen and \
                 self.get_parameter('wait_for_controller').value:
-            self._hold_clock_for_controller(now, timeout)
+            if self._hold_clock(now, timeout):
+                self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s until '
+                                       'a controller answers on joint_commands',
+                                       throttle_duration_sec=5.0)
             return
         if self._lockstep() and not self._graph_up:
             missing = self._topics_without_publishers()
             if missing:
-                self._hold_clock_for_publishers(now, timeout, missing)
+                if self._hold_clock(now, timeout):
+                    self._last_command_wall = now  # the controller answered what it was sent
+                    self.get_logger().info(
+                        f'lockstep holds the clock at t={self._now():.2f} s until '
+                        f'{", ".join(missing)} have a publisher (wait_for_publishers)',
+                        throttle_duration_sec=5.0)
                 return
             self._graph_up = True
             if self._controller_seen and self._last_command_stamp >= self._now() - 1e-6:
@@ -295,33 +303,20 @@ class SimulatorNode(Node):
                                       throttle_duration_sec=5.0)
         self._step()
 
-    def _hold_clock_for_controller(self, now: float, timeout: float) -> None:
-        """Before the first command: the clock stays where it is and the sensors go out again,
-        for a controller that subscribed after they were sent."""
+    def _hold_clock(self, now: float, timeout: float) -> bool:
+        """Before the clock starts: it stays where it is, and every timeout the sensors go out
+        again, for a controller that subscribed after they were sent; :return: whether they
+        went out now."""
         if now - self._last_step_wall < timeout:
-            return
+            return False
         self._last_step_wall = now
-        self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s until a '
-                               'controller answers on joint_commands', throttle_duration_sec=5.0)
         if self._readings is not None:
             self._publish(self._readings)
+        return True
 
     def _topics_without_publishers(self) -> list:
         topics = [t.strip() for t in self.get_parameter('wait_for_publishers').value.split(',')]
         return [t for t in topics if t and self.count_publishers(t) == 0]
-
-    def _hold_clock_for_publishers(self, now: float, timeout: float, missing: list) -> None:
-        """Before the clock starts: the sensors go out again for the controller, whose
-        answers are kept, while the awaited nodes come up."""
-        if now - self._last_step_wall < timeout:
-            return
-        self._last_step_wall = now
-        self._last_command_wall = now  # the controller answered what it was sent
-        self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s until '
-                               f'{", ".join(missing)} have a publisher (wait_for_publishers)',
-                               throttle_duration_sec=5.0)
-        if self._readings is not None:
-            self._publish(self._readings)
 
     def _report_waiting(self, silent: float) -> None:
         self.get_logger().warning(
