@@ -124,6 +124,7 @@ class FootstepPlannerNode(Node):
         self._astar = None
         self._pose = None
         self._feet = None  # the standing feet the pose is between (sole_poses)
+        self._measured_feet = None  # the newest sole_poses, walking or not
         self._state = None
         self._scheduled = ScheduledCommands()  # teleop commands stated for a later step
         self._plan_pub = self.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
@@ -179,6 +180,7 @@ class FootstepPlannerNode(Node):
         except (ValueError, BipedPlannerError) as error:
             self._reject('sole_poses', error)
             return
+        self._measured_feet = measured
         if not self._walking():
             self._feet = settled_feet(self._feet, measured)
             self._pose = body_between(self._feet)
@@ -201,6 +203,14 @@ class FootstepPlannerNode(Node):
         if self._odom_since is None:
             self._odom_since = time.monotonic()
         self._offer_plan_walk()
+
+    def _stand_where_the_walk_ended(self) -> None:
+        """The feet held from before the walk are stale now: the next plan starts where the
+        feet landed (a goal can come in the very period the walk ends, before the next
+        sole_poses; a plan from the old feet would make the references jump back to them)."""
+        if self._measured_feet is not None:
+            self._feet = tuple(self._measured_feet)
+            self._pose = body_between(self._feet)
 
     def _offer_plan_walk(self) -> None:
         """Offer plan_walk once the feet are known (sole_poses), or odom's pose without them:
@@ -229,6 +239,7 @@ class FootstepPlannerNode(Node):
                 previous.phase in WALKING_PHASES:
             self._session.walk_finished()
             self._drop_scheduled('the walk ended')
+            self._stand_where_the_walk_ended()
         elif msg.phase in (WalkingState.SINGLE_SUPPORT, WalkingState.DOUBLE_SUPPORT):
             # stamped with the start of the phase that asked for it, not with when this
             # callback ran: the reference generator times the extension from it
