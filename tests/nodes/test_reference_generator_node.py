@@ -350,6 +350,35 @@ def test_a_plan_the_robot_cannot_walk_is_refused(gen, change, words):
     assert plan_id == 0 and np.all(np.abs(window.left_foot) < 1.0)  # stands, walks nothing
 
 
+def test_a_new_plan_that_starts_away_from_the_standing_feet_is_refused(gen):
+    """A plan from stale feet (made before the last walk moved them) would jump the feet back at
+    its start: refused before the first walk (against the soles) and after one (against where
+    that walk left them)."""
+    g = gen
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    g['plan'].publish(plan_msg(1, straight_footsteps(2, 0.1, 0.14, x0=0.16)))
+    g['clock'].advance(0.1)
+    assert spin_until(g['executor'], lambda: g['rosout'].has(
+        'plan 1 not used', '0.160 m from where that foot stands'), 2.0)
+    g['plan'].publish(plan_msg(2, straight_footsteps(2, 0.1, 0.14, x0=0.03)))  # within 5 cm
+    state(g, WalkingState.INITIALIZE, walk_start=g['clock'].t)
+    g['clock'].advance(3.0)
+    state(g, WalkingState.IDLE)
+    window, plan_id = newest_window(g)
+    assert plan_id == 2 and window.left_foot[-1, 0] == pytest.approx(0.23)
+    g['plan'].publish(plan_msg(3, straight_footsteps(2, 0.1, 0.14, x0=0.03)))  # stale
+    g['clock'].advance(0.1)
+    state(g, WalkingState.INITIALIZE, walk_start=g['clock'].t)
+    window, plan_id = newest_window(g)  # refused (its line rate-limited after plan 1's)
+    assert plan_id == 0 and np.all(window.left_foot[:, 0] == pytest.approx(0.23))  # stands
+    state(g, WalkingState.IDLE)
+    g['plan'].publish(plan_msg(4, straight_footsteps(2, 0.1, 0.14, x0=0.23)))
+    g['clock'].advance(0.1)
+    assert spin_until(g['executor'], lambda: g['rosout'].has('plan 4 (5 footsteps): stored'),
+                      2.0)
+
+
 def test_malformed_standing_inputs_are_refused(gen):
     g = gen
     g['soles'].publish(sole_poses(0.0))

@@ -21,6 +21,7 @@ from biped_planner.footsteps import Footstep
 from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_window import joined_at, ReferenceWindow
+from biped_planner.sides import LEFT
 from biped_planner.standing_reference import standing_window
 from biped_planner.step_adjuster import OnlineStepAdjuster
 from biped_planner.step_timing import StepTiming
@@ -48,6 +49,27 @@ def check_footsteps(footsteps: Sequence[Footstep], workspace: float, max_step: f
                 raise ConfigError(f'footstep {index} is {distance:.3f} m from footstep '
                                   f'{index - 1} (> {max_step} m)')
 
+
+
+def check_plan_start(footsteps: Sequence[Footstep], feet: Sequence[Footstep],
+                     max_offset: float) -> None:
+    """A new plan starts where the feet stand: its two initial feet are within max_offset of
+    the feet of the same side (a reference from elsewhere would jump the feet there at once).
+
+    :param feet: the standing feet (any order, one per side)
+    :raises ConfigError: naming the foot and how far off it starts
+    """
+    standing = {foot.side: foot for foot in feet}
+    for index, start in enumerate(footsteps[:2]):
+        foot = standing.get(start.side)
+        if foot is None:
+            continue
+        offset = math.hypot(start.x - foot.x, start.y - foot.y)
+        if offset > max_offset:
+            side = 'left' if start.side == LEFT else 'right'
+            raise ConfigError(f'its initial footstep {index} ({side} foot) is {offset:.3f} m '
+                              f'from where that foot stands (> {max_offset} m): a plan starts '
+                              'from the feet the robot stands on')
 
 WALK_NOTICE = 1.0  # s: a scheduled walk enters the references this long before its start
 MAX_ESTIMATE_OFFSET = 0.5  # m: a COM estimate farther from the plan's is not the walking robot's

@@ -6,8 +6,8 @@ import pytest
 
 from biped_planner.errors import ConfigError
 from biped_planner.footsteps import Footstep, straight_footsteps
-from biped_planner.reference_session import check_footsteps
-from biped_planner.sides import LEFT
+from biped_planner.reference_session import check_footsteps, check_plan_start
+from biped_planner.sides import LEFT, RIGHT
 
 
 def test_a_plan_of_straight_steps_passes():
@@ -22,6 +22,16 @@ def test_a_plan_of_straight_steps_passes():
 def test_plans_the_robot_cannot_walk_are_refused(footsteps, words):
     with pytest.raises(ConfigError, match=words):
         check_footsteps(footsteps, 1000.0, 1.0)
+
+
+def test_a_plan_starts_within_the_offset_of_the_standing_feet_of_its_own_sides():
+    feet = (Footstep(RIGHT, 0.3, -0.07), Footstep(LEFT, 0.3, 0.07))  # any order
+    check_plan_start(straight_footsteps(2, 0.1, 0.14, x0=0.27), feet, 0.05)  # 3 cm off
+    with pytest.raises(ConfigError, match=r'footstep 0 \(right foot\) is 0.300 m'):
+        check_plan_start(straight_footsteps(2, 0.1, 0.14), feet, 0.05)
+    swapped = [Footstep(RIGHT, 0.3, 0.07), Footstep(LEFT, 0.3, -0.07)]  # sides crossed
+    with pytest.raises(ConfigError, match=r'\(right foot\) is 0.140 m'):
+        check_plan_start(swapped, feet, 0.05)
 
 
 def test_before_a_scheduled_start_the_window_stands_whenever_the_plan_came():

@@ -40,7 +40,8 @@ A new walking_state.epoch (the state machine reset the robot) drops the walk, it
 standing feet: the references stand where the controller's sole_poses put the feet again. An
 epoch change while walking is refused (a reset is refused while walking). Inputs are checked at
 the boundary (frames, finite values, the workspace, footsteps farther apart than
-max_footstep_distance, unknown phases): a refused message is logged and ignored. walking_state
+max_footstep_distance, a new plan that does not start within max_plan_start_offset of the feet
+the references stand on, unknown phases): a refused message is logged and ignored. walking_state
 silent for state_timeout (the state machine is gone) is reported ERROR on diagnostics; the
 current walk's reference then runs to its plan's end and stands.
 """
@@ -78,7 +79,7 @@ from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_pose
                                              footstep_msgs, footsteps_from_msgs)
 from biped_planner.pose_checks import PoseBounds
 from biped_planner.reference_params import ReferenceParams
-from biped_planner.reference_session import check_footsteps, ReferenceSession
+from biped_planner.reference_session import check_footsteps, check_plan_start, ReferenceSession
 from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_planner.standing_feet import settled_feet
@@ -135,6 +136,9 @@ class ReferenceGeneratorNode(Node):
             'map_frame': ('map', 'frame of plans, sole poses and odometry', None),
             'max_footstep_distance': (1.0, 'largest distance between consecutive footsteps of '
                                       'a plan (m)', (0.05, 10.0)),
+            'max_plan_start_offset': (0.05, 'a new plan whose initial feet are farther than '
+                                      'this from where the references stand the feet is '
+                                      'refused: the feet would jump there (m)', (0.001, 1.0)),
             'state_timeout': (0.5, 'walking_state silent this long is reported lost (s)',
                               (0.05, 60.0)),
             'extension_delay': (0.35, "the planner's own extension of a walk (request_id 0) "
@@ -315,6 +319,11 @@ class ReferenceGeneratorNode(Node):
             check_footsteps(footsteps, self._bounds.workspace,
                             self.get_parameter('max_footstep_distance').value)
             timing = StepTiming(msg.single_support, msg.double_support)
+            standing = self._standing_feet()
+            if msg.plan_id != self._session.plan_id and self._phase not in WALKING_PHASES and \
+                    standing is not None:
+                check_plan_start(footsteps, standing,
+                                 self.get_parameter('max_plan_start_offset').value)
             apply_at = stamp = None
             t_out = max(self._now(), (self._sent_ns or 0) * 1e-9)  # newest reference sent
             if msg.request_id == 0:  # the planner's own extension, stamped with its step
@@ -346,6 +355,13 @@ class ReferenceGeneratorNode(Node):
              f'machine) from t={t_out:.3f} s')
         self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
                                f'{done}{late}')
+
+    def _standing_feet(self):
+        """Where the references stand the feet between walks: the last walk's final feet, or
+        before the first walk the measured ones (None: not known yet)."""
+        if self._session.reference is not None:
+            return self._session.reference.footsteps[-2:]
+        return self._standing
 
     def _on_state(self, msg: WalkingState) -> None:
         # a scheduled walk (WalkCommand.start_time) starts up to MAX_START_LEAD ahead
