@@ -151,6 +151,9 @@ class WalkingControllerParams:
                                                   '(1/s)', low=0.0, high=100.0)
     force_difference_max_offset: float = parameter(0.05, 'largest feet height difference (m)',
                                                    low=0.0, high=0.3)
+    force_difference_swing_return_rate: float = parameter(
+        10.0, "rate at which a swinging foot's force difference offset returns to zero, so "
+        'that it lands where planned (1/s); 0: it keeps its offset', low=0.0, high=1000.0)
     vertical_drift_frequency: float = parameter(1.0, 'vertical drift compensation rate (1/s)',
                                                 low=0.0, high=50.0)
     vertical_drift_max_offset: float = parameter(0.05, 'largest common feet height offset (m)',

@@ -44,6 +44,35 @@ def test_outside_double_support_only_the_leak_acts_and_the_limit_holds():
     assert control.dz == -0.03
 
 
+def test_a_swinging_foot_returns_its_offset_the_supporting_one_keeps_its_own():
+    params = FootForceDifferenceParams(leak_rate=0.5, swing_return_rate=10.0)
+    control = FootForceDifference(params)
+    control.reset(0.02)  # left +1 cm, right -1 cm
+    for k in range(1, 21):  # 0.4 s of single support on the right foot
+        result = control.update(DT, False, [0.0, 300.0], [0.0, 300.0], swinging=(True, False))
+        assert result.offsets[LEFT] == pytest.approx(0.01 * math.exp(-10.0 * k * DT))
+        assert result.offsets[RIGHT] == pytest.approx(-0.01 * math.exp(-0.5 * k * DT))
+        assert result.dz == pytest.approx(result.offsets[LEFT] - result.offsets[RIGHT])
+    # the left foot lands within 0.2 mm of its planned height (e^-4 of 1 cm)
+    assert abs(result.offsets[LEFT]) < 2e-4
+    # back in double support the difference moves both feet again, from where they are
+    before = result.offsets.copy()
+    result = control.update(DT, True, [150.0, 150.0], [170.0, 130.0])
+    decay = math.exp(-0.5 * DT)
+    change = 0.5 * ((decay * (before[LEFT] - before[RIGHT])
+                     + (1.0 - decay) * 1e-4 * 40.0 / 0.5) - (before[LEFT] - before[RIGHT]))
+    np.testing.assert_allclose(result.offsets, before + [change, -change], atol=1e-15)
+
+
+def test_without_a_swing_return_a_swinging_foot_keeps_its_offset():
+    control = FootForceDifference(FootForceDifferenceParams(leak_rate=0.0,
+                                                            swing_return_rate=0.0))
+    control.reset(0.02)
+    for _ in range(20):
+        result = control.update(DT, False, [0.0, 300.0], [0.0, 300.0], swinging=(False, True))
+    np.testing.assert_allclose(result.offsets, [0.01, -0.01])
+
+
 def tile_forces(dz, heights, stiffness, weight=WEIGHT):
     """Normal forces of two spring feet on tiles, the body height solving their sum = weight.
 
@@ -87,7 +116,8 @@ def test_bad_parameters_are_refused(change):
 
 
 @pytest.mark.parametrize('args', [(0.0, True, [0, 0], [0, 0]), (DT, True, [0, math.nan], [0, 0]),
-                                  (DT, True, [0, 0], [0, 0, 0])])
+                                  (DT, True, [0, 0], [0, 0, 0]),
+                                  (DT, False, [0, 0], [0, 0], (True,))])
 def test_bad_inputs_are_refused(args):
     with pytest.raises(InputError):
         FootForceDifference().update(*args)

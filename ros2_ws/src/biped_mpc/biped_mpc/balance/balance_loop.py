@@ -98,7 +98,8 @@ class BalanceLoopParams:
             damping=damping,
             force_difference=FootForceDifferenceParams(
                 gain=p.force_difference_gain, leak_rate=p.force_difference_leak_rate,
-                max_offset=p.force_difference_max_offset),
+                max_offset=p.force_difference_max_offset,
+                swing_return_rate=p.force_difference_swing_return_rate),
             vertical_drift=VerticalDriftParams(frequency=p.vertical_drift_frequency,
                                                max_offset=p.vertical_drift_max_offset))
         return cls(

@@ -156,8 +156,9 @@ class Stabilizer:
     4. wrench_distribution over the feet in contact (both, one, or none in the air);
     5. foot_damping per foot on the measured - desired sole torques (offsets released when
        the foot is off the ground);
-    6. foot_force_difference in double support on the normal forces, and vertical_drift on
-       the mean sole height; vertical offsets per side = +-dz/2 + the common drift offset.
+    6. foot_force_difference in double support on the normal forces (a swinging foot's
+       offset returns to zero), and vertical_drift on the mean sole height; vertical offsets
+       per side = the foot's own offset (+-dz/2 while both support) + the common drift offset.
 
     The outputs are modifications of the IK's references: the ZMP and wrenches are targets
     (and diagnostics), the ankle and vertical offsets are added to the sole pose targets.
@@ -249,7 +250,8 @@ class Stabilizer:
         double = len(touching) == 2
         difference = self.force_difference.update(
             dt, double, local[:, 2], [measurement.wrenches[LEFT].normal_force,
-                                      measurement.wrenches[RIGHT].normal_force])
+                                      measurement.wrenches[RIGHT].normal_force],
+            swinging=tuple(not contacts[side] for side in SIDES))
         drift_active = double and None not in (reference.mean_sole_height,
                                                measurement.mean_sole_height)
         drift = self.vertical_drift.update(
