@@ -88,6 +88,10 @@ class WalkingControllerParams:
     swing_target: str = parameter(SWING_TARGET_MASSES, 'horizontal swing foot target: planned '
                                   '(the reference trajectory) or masses (2 leg mass - hip)',
                                   choices=SWING_TARGETS)
+    swing_start_time_constant: float = parameter(
+        0.1, 'with the planned swing target: a swing starts where the foot was latched and '
+        'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
+        'planned swing from its planned start', low=0.0, high=10.0)
     dcm_gain: float = parameter(3.0, 'DCM feedback proportional gain k_p (1/s)', low=0.0,
                                 high=50.0)
     dcm_integral_gain: float = parameter(2.0, 'DCM feedback integral gain k_i (1/s^2)',

@@ -80,6 +80,7 @@ from biped_mpc.qp_backend import QpStatus
 from biped_mpc.reference_adapter import cycle_references, CycleReferences
 from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
+from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
 from biped_planner.rotations import quaternion_to_matrix, rotation_x, rotation_y, rotation_z
 from biped_planner.sides import LEFT, RIGHT, SIDES, SUPPORT_DOUBLE
@@ -157,6 +158,7 @@ class WalkingController:
         self._n_predict = params.mpc.n_predict
         self._dt = params.mpc.dt
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
+        self._swing_start = SwingStart(params.swing_start_time_constant)
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
         self._com_height = lipm.com_height
@@ -194,6 +196,7 @@ class WalkingController:
         self._command = state
         self._pelvis = pelvis
         self._servo.reset(pelvis)
+        self._swing_start.reset()
         if self._balance is not None:
             self._balance.reset(soles)
         self._com_history = []
@@ -375,9 +378,17 @@ class WalkingController:
             feet_next[:, 2] = [0.0 if latch is None else latch[2]
                                for latch in self._stance.latched]
             support_next = SUPPORT_DOUBLE
-        return ik_targets(next_state, feet_next, support_next, self._stance, self._model_hip,
-                          self.params.robot.pelvis_height,
-                          self.params.swing_target == SWING_TARGET_PLANNED)
+        planned = self.params.swing_target == SWING_TARGET_PLANNED
+        targets = ik_targets(next_state, feet_next, support_next, self._stance,
+                             self._model_hip, self.params.robot.pelvis_height, planned)
+        if planned:
+            feet = (targets.left_foot, targets.right_foot)
+            offsets = self._swing_start.update(
+                self._dt, self._stance.held(support_next), self._stance.latched,
+                np.array([feet[side][:2] for side in SIDES]))
+            for side in SIDES:
+                feet[side][:2] += offsets[side]
+        return targets
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
                    pelvis: np.ndarray, rotation: np.ndarray, command: np.ndarray,
