@@ -50,7 +50,6 @@ def check_footsteps(footsteps: Sequence[Footstep], workspace: float, max_step: f
                                   f'{index - 1} (> {max_step} m)')
 
 
-
 def check_plan_start(footsteps: Sequence[Footstep], feet: Sequence[Footstep],
                      max_offset: float) -> None:
     """A new plan starts where the feet stand: its two initial feet are within max_offset of
@@ -70,6 +69,7 @@ def check_plan_start(footsteps: Sequence[Footstep], feet: Sequence[Footstep],
             raise ConfigError(f'its initial footstep {index} ({side} foot) is {offset:.3f} m '
                               f'from where that foot stands (> {max_offset} m): a plan starts '
                               'from the feet the robot stands on')
+
 
 WALK_NOTICE = 1.0  # s: a scheduled walk enters the references this long before its start
 MAX_ESTIMATE_OFFSET = 0.5  # m: a COM estimate farther from the plan's is not the walking robot's
