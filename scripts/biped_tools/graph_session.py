@@ -216,7 +216,8 @@ class GraphSession:
             stamp_seconds(m.header.stamp), m.point.x, m.point.y, m.point.z)), 50)
         node.create_subscription(PointStamped, 'zmp', lambda m: s.zmp.append((
             stamp_seconds(m.header.stamp), m.point.x, m.point.y)), 50)
-        node.create_subscription(ReferenceTrajectory, 'reference_trajectory', on_reference, 50)
+        self._reference_sub = node.create_subscription(ReferenceTrajectory,
+                                                       'reference_trajectory', on_reference, 50)
 
         def on_walking_state(m):
             s.states.append((stamp_seconds(m.header.stamp), m.phase, m.step_index, m.fallen,
@@ -288,12 +289,19 @@ class GraphSession:
         odom = self.recorder.records.get('/odom')
         return odom is not None and odom.count > 0
 
-    def wait_until_ready(self, timeout: float = 60.0) -> None:
+    def wait_until_ready(self, timeout: float = 60.0, clock_held: bool = False) -> None:
         """Every node talks: the controller answers, references flow, the map is served, the
-        bag records."""
+        bag records.
+
+        :param clock_held: the simulator holds the clock (hold_at) until resume_clock: the
+            references come with the clock, so there the reference generator's publisher
+            reaching this session counts instead
+        """
         serving = 'map_server' in self.graph.options.nodes
         ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and self.series.pelvis
-                             and self.series.states and self.series.bounds
+                             and self.series.states
+                             and (self.series.bounds or clock_held and
+                                  self._reference_sub.get_publisher_count() > 0)
                              and (self.map is not None or not serving)
                              and self.recording_odometry() and self.planner_knows_the_feet(),
                              timeout)
@@ -408,6 +416,24 @@ class GraphSession:
             raise TimeoutError(f'the push service did not answer in {timeout:.0f} s; the push '
                                f'may have been applied')
         return future.result().success
+
+    def resume_clock(self, timeout: float = 30.0) -> str:
+        """Let a clock held at the simulator's hold_at run on (simulator/resume).
+
+        :return: the simulator's answer
+        :raises TimeoutError: no service, or no answer within timeout s of wall time
+        """
+        from std_srvs.srv import Trigger
+        client = self.node.create_client(Trigger, 'simulator/resume')
+        try:
+            if not client.wait_for_service(timeout_sec=timeout):
+                raise TimeoutError('simulator/resume service not available')
+            future = client.call_async(Trigger.Request())
+            if not self.spin_until(future.done, timeout):
+                raise TimeoutError(f'simulator/resume did not answer in {timeout:.0f} s')
+            return future.result().message
+        finally:
+            self.node.destroy_client(client)
 
     def set_terrain(self, **fields) -> bool:
         from biped_msgs.srv import SetTerrain

@@ -114,6 +114,45 @@ def test_lockstep_starts_the_clock_once_the_awaited_topics_have_publishers(ros_c
     del node, state, plan
 
 
+def test_lockstep_holds_the_clock_at_hold_at_until_resumed(ros_context, executor):
+    """A scripted trial gets ready while the clock holds, then resumes it: its commands then
+    meet the same sim time however long it took to get ready."""
+    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('wait_for_controller', value=True), Parameter('lockstep_timeout', value=0.1),
+        Parameter('hold_at', value=0.2)]))
+    client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
+    joints = Collector(client, JointState, 'joint_states', 100)
+    clock = Collector(client, Clock, '/clock', 100)
+    rosout = RosoutLines(client)
+    commands = client.create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(executor, commands)
+
+    def answer_for(seconds: float) -> None:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            if joints.messages:
+                last = joints.messages[-1]
+                commands.publish(JointState(header=last.header, name=list(last.name[:12]),
+                                            position=list(last.position[:12])))
+            spin_until(executor, lambda: False, 0.02)
+
+    def latest() -> float:
+        return max(m.clock.sec + m.clock.nanosec * 1e-9 for m in clock.messages)
+
+    answer_for(1.5)  # the controller answers every period: the clock still stops at 0.2 s
+    assert latest() == pytest.approx(0.2)
+    assert rosout.has('holds the clock at t=0.20', 'simulator/resume')
+    answer = call(dict(client=client, executor=executor), Trigger, 'simulator/resume',
+                  Trigger.Request())
+    assert answer.success and 'resumes at t=0.20' in answer.message
+    answer_for(1.0)
+    assert latest() > 0.3
+    again = call(dict(client=client, executor=executor), Trigger, 'simulator/resume',
+                 Trigger.Request())
+    assert again.success and 'not held' in again.message
+    del node
+
+
 def test_push_service_moves_the_robot_and_rejects_bad_requests(sim):
     assert sim['odom'].wait_for(sim['executor'], timeout=15)
     x0 = sim['odom'].messages[-1].pose.pose.position.x

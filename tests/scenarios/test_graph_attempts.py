@@ -3,16 +3,17 @@ stands in for GraphSession)."""
 import pytest
 
 from biped_tools.scenarios import trial as trial_module
-from biped_tools.scenarios.trial import GRAPH_ATTEMPTS, graph_for, Trial
+from biped_tools.scenarios.trial import GRAPH_ATTEMPTS, graph_for, HOLD_AT, Trial
 
 
 class SlowGraph:
     """GraphSession's context protocol; the first `failures` graphs never get ready."""
-    started, closed = [], []
+    started, closed, resumed, overrides = [], [], [], []
 
     def __init__(self, domain_id, **kwargs):
         self.number = len(SlowGraph.started)
         SlowGraph.started.append(domain_id)
+        SlowGraph.overrides.append(kwargs.get('overrides', {}))
 
     def __enter__(self):
         return self
@@ -21,14 +22,19 @@ class SlowGraph:
         SlowGraph.closed.append(self.number)
         return False
 
-    def wait_until_ready(self):
+    def wait_until_ready(self, clock_held=False):
+        assert clock_held
         if self.number < SlowGraph.failures:
             raise TimeoutError('graph not ready after 60.0 s')
+
+    def resume_clock(self):
+        SlowGraph.resumed.append(self.number)
+        return 'the clock resumes at t=2.00 s'
 
 
 @pytest.fixture
 def slow_graph(monkeypatch):
-    SlowGraph.started, SlowGraph.closed = [], []
+    SlowGraph.started, SlowGraph.closed, SlowGraph.resumed, SlowGraph.overrides = [], [], [], []
     monkeypatch.setattr(trial_module, 'GraphSession', SlowGraph)
     return SlowGraph
 
@@ -44,6 +50,9 @@ def test_a_graph_that_is_not_ready_is_started_again_and_the_trial_runs(tmp_path,
         assert session.number == 1
     assert slow_graph.started == [42, 42] and slow_graph.closed == [0, 1]
     assert any('started again' in line for line in lines)
+    # the clock holds at HOLD_AT in every graph; only the ready one is let run on
+    assert all(f'hold_at:={HOLD_AT}' in given['simulator'] for given in slow_graph.overrides)
+    assert slow_graph.resumed == [1]
 
 
 def test_after_the_last_attempt_the_timeout_is_raised(tmp_path, slow_graph):

@@ -185,13 +185,19 @@ class FootstepPlannerNode(Node):
             self._feet = settled_feet(self._feet, measured)
             self._pose = body_between(self._feet)
             self._soles_seen = True
+            self._drop_odom()
             self._offer_plan_walk()
+
+    def _drop_odom(self) -> None:
+        """The feet are known: odom is not read again (a message every period). Dropped at
+        once, not at the next odom: a clock held at its start sends none for a while."""
+        if self._odom_sub is not None:
+            self.destroy_subscription(self._odom_sub)
+            self._odom_sub = None
 
     def _on_odom(self, msg: Odometry) -> None:
         if self._soles_seen:
-            if self._odom_sub is not None:
-                self.destroy_subscription(self._odom_sub)
-                self._odom_sub = None
+            self._drop_odom()
             return
         try:
             if msg.header.frame_id != self._frame:

@@ -92,6 +92,8 @@ class SimulatorNode(Node):
         self._graph_up = False  # the wait_for_publishers topics all had a publisher once
         self._controller_lost = False
         self._hold_until = -math.inf  # sim time until which commands are ignored (reset)
+        self._resumed = False  # simulator/resume was called (hold_at)
+        self._step_held = False  # a lockstep step is due while the clock holds at hold_at
         self._setpoints = self._nominal_setpoints()
         self._previous_setpoints = None
         self._velocities = np.zeros(len(self._names))
@@ -132,6 +134,7 @@ class SimulatorNode(Node):
         # internal: the state machine's user-facing reset calls it and re-initialises the rest
         self.create_service(Trigger, 'simulator/reset', self._on_reset)
         self.create_service(SetTerrain, 'set_terrain', self._on_set_terrain)
+        self.create_service(Trigger, 'simulator/resume', self._on_resume)
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self._readings = self._reset_robot()
         self._publish(self._readings)
@@ -278,6 +281,13 @@ class SimulatorNode(Node):
             if self._controller_seen and self._last_command_stamp >= self._now() - 1e-6:
                 self._step()  # the command answering the held time
             return
+        if self._holding():
+            if self._hold_clock(now, timeout):
+                self._last_command_wall = now  # held for the trial, not for the controller
+                self.get_logger().info(f'lockstep holds the clock at t={self._now():.2f} s '
+                                       'until simulator/resume is called (hold_at)',
+                                       throttle_duration_sec=5.0)
+            return
         if not self._lockstep() or self._controller_lost or not (
                 self._controller_seen or self._command_sub.get_publisher_count() > 0):
             if self._controller_seen and not self._controller_lost and \
@@ -354,7 +364,29 @@ class SimulatorNode(Node):
             message, {'topic': 'joint_commands', 'seconds_since_last_command': f'{silent:.3f}',
                       'sim_time': f'{self._now():.3f}'}))
 
+    def _holding(self) -> bool:
+        """Whether the lockstep clock holds at hold_at, waiting for simulator/resume."""
+        hold_at = float(self.get_parameter('hold_at').value)
+        return self._lockstep() and not self._resumed and hold_at >= 0.0 and \
+            self._now() >= hold_at - 1e-9
+
+    def _on_resume(self, request: Trigger.Request, response: Trigger.Response):
+        held = self._holding()
+        self._resumed = True
+        response.success = True
+        response.message = (f'the clock resumes at t={self._now():.2f} s' if held else
+                            f'the clock was not held (t={self._now():.2f} s)')
+        self.get_logger().info(response.message)
+        if self._step_held:
+            self._step_held = False
+            self._last_command_wall = time.monotonic()
+            self._step()
+        return response
+
     def _step(self) -> None:
+        if self._holding():
+            self._step_held = True  # resume steps it
+            return
         self._last_step_wall = time.monotonic()
         try:
             self._readings = step_toward(self._backend, self._previous_setpoints,

@@ -62,6 +62,10 @@ SIMULATOR_PARAMETERS = {
                             'footstep_plan) that must each have a publisher before the clock '
                             'starts: a user\'s command then reaches a graph that started at '
                             'the same sim time however slowly its processes came up', None),
+    'hold_at': (-1.0, 'lockstep: the clock holds at this sim time until simulator/resume is '
+                'called: a scripted trial gets ready there, so its commands meet the same sim '
+                'time however long that took on the wall clock (s); negative: no hold',
+                (-1.0, 1e6)),
     'hung_controller_timeout': (10.0, 'wall time without a command after which a controller '
                                 'whose process is alive is lost all the same (hung) (s)',
                                 (0.1, 3600.0)),
