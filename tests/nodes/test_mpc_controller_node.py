@@ -94,6 +94,32 @@ def test_before_its_first_reference_it_sends_the_measured_soles_of_the_sensor_ti
     assert abs(left[2]) < 0.01 and abs(right[2]) < 0.01
 
 
+def test_while_the_clock_holds_a_late_subscriber_still_gets_the_soles(ros_context, executor):
+    """The simulator repeats the held period; the controller answers it with the same command
+    and soles again, so a planner that subscribed late still learns where the feet are."""
+    from geometry_msgs.msg import PoseArray
+    executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('lockstep_timeout', value=0.1), Parameter('hold_at', value=0.3)]))
+    executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True)]))
+    client = executor.track(rclpy.create_node('mpc_test_client', context=ros_context))
+    g = dict(client=client, executor=executor)
+    g['odom'] = Collector(client, Odometry, 'odom', 100)
+    refs = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+    assert wait_for_subscribers(executor, refs, timeout=15)
+    assert g['odom'].wait_for(executor, timeout=15)
+    for _ in range(100):  # references until the clock holds at 0.3 s
+        refs.publish(standing_reference(g, sim_time(g)))
+        spin_until(executor, lambda: False, 0.05)
+        if sim_time(g) >= 0.3 - 1e-6:
+            break
+    assert sim_time(g) == pytest.approx(0.3)
+    spin_until(executor, lambda: False, 1.0)  # the held period's own cycle is long done
+    soles = Collector(client, PoseArray, 'sole_poses', 10)
+    assert soles.wait_for(executor, timeout=5), 'no sole_poses while the clock holds'
+    assert seconds(soles.messages[-1].header.stamp) == pytest.approx(0.3)
+
+
 def test_a_malformed_reference_is_rejected_and_control_goes_on(loop):
     g = loop
     assert g['odom'].wait_for(g['executor'], timeout=15)

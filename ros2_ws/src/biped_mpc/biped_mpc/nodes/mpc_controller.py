@@ -174,6 +174,7 @@ class MpcControllerNode(Node):
         self._pending = None  # sensor time (s) of a complete period not yet computed
         self._last_output = None
         self._last_command = None
+        self._last_soles = None  # the sole_poses of the last cycle
         self._started = False
         self._command_pub = self.create_publisher(JointState, 'joint_commands', 10)
         self._alive = LivelinessToken(self, 'joint_commands')  # lockstep waits while it lives
@@ -255,8 +256,11 @@ class MpcControllerNode(Node):
         period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         if period == self._last_cycle and self._answered(period):
             # The simulator sent this period again: its answer was lost (at start-up, before
-            # DDS matched the two); the same command again, not a second cycle.
+            # DDS matched the two), or its clock holds (hold_at); the same command and soles
+            # again, not a second cycle (a planner that subscribed late then learns the feet).
             self._command_pub.publish(self._last_command)
+            if self._last_soles is not None:
+                self._soles_pub.publish(self._last_soles)
             return
         self._period = period
         self._joint_states_arrival = time.monotonic()  # for the cycle latency diagnostic
@@ -408,9 +412,10 @@ class MpcControllerNode(Node):
         self._last_command = command
         latency = time.monotonic() - self._joint_states_arrival
         self._deadlines.record(latency)
-        self._soles_pub.publish(sole_poses_msg(
+        self._last_soles = sole_poses_msg(
             (output.left_foot_target, output.right_foot_target), stamp,
-            self.get_parameter('frames.world').value))
+            self.get_parameter('frames.world').value)
+        self._soles_pub.publish(self._last_soles)
         if hold_reason is not None:
             status, message = ControllerDiagnostics.HOLDING, f'holding a stance: {hold_reason}'
         elif output.status & STATUS_MPC_FALLBACK:
