@@ -19,7 +19,7 @@ from biped_msgs.msg import WalkCommand
 from biped_tools.graph_session import GraphSession, IDLE
 from biped_tools.paths import PAPER_MAP
 from biped_tools.run_plots import top_view, zmp_figure, zmp_inside_fraction
-from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, sample_at,
+from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, HOLD_AT, sample_at,
                                          stated_start_time, Trial, write_result)
 
 GOAL_TOLERANCE = 0.15  # m between the final pelvis and the goal
@@ -44,10 +44,14 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
     _, start, goal = paper_start_goal_example()
     bag = fresh_bag_dir(out)
     overrides = graph_overrides(model, (start.x, start.y, start.yaw))
+    if stated:  # the clock holds until the session is ready, as in every scripted trial
+        overrides['simulator'].append(f'hold_at:={HOLD_AT}')
     wall_start = time.monotonic()
     with GraphSession(domain_id, bag_dir=bag, overrides=overrides, map_file=PAPER_MAP,
                       log=log) as session:
-        session.wait_until_ready()
+        session.wait_until_ready(clock_held=stated)
+        if stated:
+            session.resume_clock()
         grid = session.map
         t0 = session.sim_time()
         log(f'[demo] goal ({goal.x}, {goal.y}) from ({start.x}, {start.y})')
