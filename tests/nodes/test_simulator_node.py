@@ -40,6 +40,37 @@ def call(s, srv_type, name, request, timeout=10.0):
     return future.result()
 
 
+def answer_periods(executor, joints, commands, seconds: float) -> None:
+    """A controller for `seconds` of wall time: each sensor period answered with its legs."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        if joints.messages:
+            last = joints.messages[-1]
+            commands.publish(JointState(header=last.header, name=list(last.name[:12]),
+                                        position=list(last.position[:12])))
+        spin_until(executor, lambda: False, 0.02)
+
+
+class LockstepRig:
+    """A lockstep simulator that waits for a controller, with one more parameter, and a client
+    that plays the controller (answer_for) and watches the clock and /rosout."""
+
+    def __init__(self, ros_context, executor, parameter: Parameter) -> None:
+        self.node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+            Parameter('wait_for_controller', value=True),
+            Parameter('lockstep_timeout', value=0.1), parameter]))
+        self.client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
+        self.executor = executor
+        self.joints = Collector(self.client, JointState, 'joint_states', 100)
+        self.clock = Collector(self.client, Clock, '/clock', 100)
+        self.rosout = RosoutLines(self.client)
+        self.commands = self.client.create_publisher(JointState, 'joint_commands', 10)
+        assert wait_for_subscribers(executor, self.commands)
+
+    def answer_for(self, seconds: float) -> None:
+        answer_periods(self.executor, self.joints, self.commands, seconds)
+
+
 def test_sensors_are_published_with_sim_time_and_consistent_values(sim):
     assert sim['joints'].wait_for(sim['executor'], lambda m: len(m) >= 10, timeout=15)
     joint = sim['joints'].messages[-1]
@@ -82,24 +113,9 @@ def test_lockstep_starts_the_clock_once_the_awaited_topics_have_publishers(ros_c
     """A controller that answers does not start the clock while a node of the graph is not up
     yet: a command sent once the graph is up then meets it at the same sim time."""
     from biped_msgs.msg import FootstepPlan, WalkingState
-    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
-        Parameter('wait_for_controller', value=True), Parameter('lockstep_timeout', value=0.1),
-        Parameter('wait_for_publishers', value='walking_state, footstep_plan')]))
-    client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
-    joints = Collector(client, JointState, 'joint_states', 100)
-    clock = Collector(client, Clock, '/clock', 100)
-    rosout = RosoutLines(client)
-    commands = client.create_publisher(JointState, 'joint_commands', 10)
-    assert wait_for_subscribers(executor, commands)
-
-    def answer_for(seconds: float) -> None:
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            if joints.messages:
-                last = joints.messages[-1]
-                commands.publish(JointState(header=last.header, name=list(last.name[:12]),
-                                            position=list(last.position[:12])))
-            spin_until(executor, lambda: False, 0.02)
+    rig = LockstepRig(ros_context, executor,
+                      Parameter('wait_for_publishers', value='walking_state, footstep_plan'))
+    client, clock, rosout, answer_for = rig.client, rig.clock, rig.rosout, rig.answer_for
 
     answer_for(1.0)
     stamps = {(m.clock.sec, m.clock.nanosec) for m in clock.messages}
@@ -111,30 +127,14 @@ def test_lockstep_starts_the_clock_once_the_awaited_topics_have_publishers(ros_c
     plan = client.create_publisher(FootstepPlan, 'footstep_plan', 10)
     answer_for(1.0)
     assert max(m.clock.sec + m.clock.nanosec * 1e-9 for m in clock.messages) >= 0.1
-    del node, state, plan
+    del state, plan
 
 
 def test_lockstep_holds_the_clock_at_hold_at_until_resumed(ros_context, executor):
     """A scripted trial gets ready while the clock holds, then resumes it: its commands then
     meet the same sim time however long it took to get ready."""
-    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
-        Parameter('wait_for_controller', value=True), Parameter('lockstep_timeout', value=0.1),
-        Parameter('hold_at', value=0.2)]))
-    client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
-    joints = Collector(client, JointState, 'joint_states', 100)
-    clock = Collector(client, Clock, '/clock', 100)
-    rosout = RosoutLines(client)
-    commands = client.create_publisher(JointState, 'joint_commands', 10)
-    assert wait_for_subscribers(executor, commands)
-
-    def answer_for(seconds: float) -> None:
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            if joints.messages:
-                last = joints.messages[-1]
-                commands.publish(JointState(header=last.header, name=list(last.name[:12]),
-                                            position=list(last.position[:12])))
-            spin_until(executor, lambda: False, 0.02)
+    rig = LockstepRig(ros_context, executor, Parameter('hold_at', value=0.2))
+    client, clock, rosout, answer_for = rig.client, rig.clock, rig.rosout, rig.answer_for
 
     def latest() -> float:
         return max(m.clock.sec + m.clock.nanosec * 1e-9 for m in clock.messages)
@@ -150,7 +150,6 @@ def test_lockstep_holds_the_clock_at_hold_at_until_resumed(ros_context, executor
     again = call(dict(client=client, executor=executor), Trigger, 'simulator/resume',
                  Trigger.Request())
     assert again.success and 'not held' in again.message
-    del node
 
 
 def test_push_service_moves_the_robot_and_rejects_bad_requests(sim):
