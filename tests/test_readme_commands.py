@@ -15,7 +15,7 @@ from ros_harness import REPO
 GRAPH_TOPICS = {'walk_command', 'goal_pose', 'cmd_vel', 'walking_state', 'footstep_plan',
                 'map', 'odom', 'joint_states', 'reference_trajectory', 'step_adjustment',
                 'balance_estimate'}
-GRAPH_SERVICES = {'reset', 'push', 'set_terrain', 'plan_walk'}
+GRAPH_SERVICES = {'reset', 'push', 'set_terrain', 'plan_walk', 'simulator/resume'}
 
 
 def usage_commands() -> list:

@@ -9,7 +9,9 @@ zmp (geometry_msgs/PointStamped, measured from the F/T sensors), com (PointStamp
 diagnostics (diagnostic_msgs/DiagnosticArray: whether the controller's commands arrive) once a
 second and when that changes.
 Services: push (biped_msgs/Push), simulator/reset (std_srvs/Trigger: stand the robot at its
-start pose; called by the state machine's reset), set_terrain (biped_msgs/SetTerrain).
+start pose; called by the state machine's reset), set_terrain (biped_msgs/SetTerrain),
+simulator/resume (std_srvs/Trigger: let a lockstep clock held at hold_at run on; scripted
+trials hold it there while they get ready).
 
 Lockstep mode (default): while a controller publishes joint_commands, physics advances one
 control period only when the command answering the last sensor time has arrived, so a run is
