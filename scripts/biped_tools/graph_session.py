@@ -79,14 +79,21 @@ class GraphSession:
     def __init__(self, domain_id: int, bag_dir: Optional[Path] = None, nodes=None,
                  overrides=None, backend: str = 'pybullet', gui: bool = False,
                  keep_going: bool = False, map_file: Optional[Path] = None,
-                 compose=(), log=print) -> None:
+                 compose=(), hold_at: Optional[float] = None, log=print) -> None:
         """:param map_file: the map map_server serves (nav2 YAML + image); None: an empty map
             around the simulator's start pose
-        :param compose: groups of nodes each run in one process (NodeGraph)"""
+        :param compose: groups of nodes each run in one process (NodeGraph)
+        :param hold_at: the lockstep clock holds at this sim time (s) until resume_clock, so a
+            scripted trial starts at the same sim time however long bring-up takes; None: it
+            runs on"""
         self.log = log
         self.domain_id = domain_id
+        self.hold_at = hold_at
+        given = {node: list(values) for node, values in (overrides or {}).items()}
+        if hold_at is not None:
+            given.setdefault('simulator', []).append(f'hold_at:={hold_at}')
         self.graph = NodeGraph(GraphOptions(
-            nodes=list(ALL_NODES if nodes is None else nodes), overrides=dict(overrides or {}),
+            nodes=list(ALL_NODES if nodes is None else nodes), overrides=given,
             domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
             keep_going=keep_going, map_file=map_file,
             compose=[list(group) for group in compose]),
@@ -289,14 +296,11 @@ class GraphSession:
         odom = self.recorder.records.get('/odom')
         return odom is not None and odom.count > 0
 
-    def wait_until_ready(self, timeout: float = 60.0, clock_held: bool = False) -> None:
+    def wait_until_ready(self, timeout: float = 60.0) -> None:
         """Every node talks: the controller answers, references flow, the map is served, the
-        bag records.
-
-        :param clock_held: the simulator holds the clock (hold_at) until resume_clock: the
-            references come with the clock, so there the reference generator's publisher
-            reaching this session counts instead
-        """
+        bag records. With the clock held (hold_at) the references wait for the clock, so there
+        the reference generator's publisher reaching this session counts instead."""
+        clock_held = self.hold_at is not None
         serving = 'map_server' in self.graph.options.nodes
         ok = self.spin_until(lambda: len(self.series.solve_times) > 5 and self.series.pelvis
                              and self.series.states

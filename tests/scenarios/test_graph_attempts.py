@@ -8,12 +8,12 @@ from biped_tools.scenarios.trial import GRAPH_ATTEMPTS, graph_for, HOLD_AT, Tria
 
 class SlowGraph:
     """GraphSession's context protocol; the first `failures` graphs never get ready."""
-    started, closed, resumed, overrides = [], [], [], []
+    started, closed, resumed, hold_at = [], [], [], []
 
     def __init__(self, domain_id, **kwargs):
         self.number = len(SlowGraph.started)
         SlowGraph.started.append(domain_id)
-        SlowGraph.overrides.append(kwargs.get('overrides', {}))
+        SlowGraph.hold_at.append(kwargs.get('hold_at'))
 
     def __enter__(self):
         return self
@@ -22,8 +22,7 @@ class SlowGraph:
         SlowGraph.closed.append(self.number)
         return False
 
-    def wait_until_ready(self, clock_held=False):
-        assert clock_held
+    def wait_until_ready(self):
         if self.number < SlowGraph.failures:
             raise TimeoutError('graph not ready after 60.0 s')
 
@@ -34,7 +33,7 @@ class SlowGraph:
 
 @pytest.fixture
 def slow_graph(monkeypatch):
-    SlowGraph.started, SlowGraph.closed, SlowGraph.resumed, SlowGraph.overrides = [], [], [], []
+    SlowGraph.started, SlowGraph.closed, SlowGraph.resumed, SlowGraph.hold_at = [], [], [], []
     monkeypatch.setattr(trial_module, 'GraphSession', SlowGraph)
     return SlowGraph
 
@@ -51,7 +50,7 @@ def test_a_graph_that_is_not_ready_is_started_again_and_the_trial_runs(tmp_path,
     assert slow_graph.started == [42, 42] and slow_graph.closed == [0, 1]
     assert any('started again' in line for line in lines)
     # the clock holds at HOLD_AT in every graph; only the ready one is let run on
-    assert all(f'hold_at:={HOLD_AT}' in given['simulator'] for given in slow_graph.overrides)
+    assert slow_graph.hold_at == [HOLD_AT, HOLD_AT]
     assert slow_graph.resumed == [1]
 
 

@@ -44,12 +44,11 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
     _, start, goal = paper_start_goal_example()
     bag = fresh_bag_dir(out)
     overrides = graph_overrides(model, (start.x, start.y, start.yaw))
-    if stated:  # the clock holds until the session is ready, as in every scripted trial
-        overrides['simulator'].append(f'hold_at:={HOLD_AT}')
     wall_start = time.monotonic()
+    # a scripted trial's clock holds until the session is ready, as in every scripted trial
     with GraphSession(domain_id, bag_dir=bag, overrides=overrides, map_file=PAPER_MAP,
-                      log=log) as session:
-        session.wait_until_ready(clock_held=stated)
+                      hold_at=HOLD_AT if stated else None, log=log) as session:
+        session.wait_until_ready()
         if stated:
             session.resume_clock()
         grid = session.map

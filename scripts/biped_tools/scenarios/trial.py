@@ -151,12 +151,11 @@ def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0
     for node, values in (extra or {}).items():
         given.setdefault(node, []).extend(values)
     overrides = graph_overrides(trial.model, start, timing, given)
-    overrides.setdefault('simulator', []).append(f'hold_at:={HOLD_AT}')
     for attempt in range(1, GRAPH_ATTEMPTS + 1):
         with GraphSession(trial.domain_id, bag_dir=bag if trial.record else None,
-                          overrides=overrides, log=trial.node_log) as session:
+                          overrides=overrides, hold_at=HOLD_AT, log=trial.node_log) as session:
             try:
-                session.wait_until_ready(clock_held=True)
+                session.wait_until_ready()
                 session.resume_clock()
             except TimeoutError as error:
                 if attempt == GRAPH_ATTEMPTS:

@@ -94,6 +94,7 @@ class SimulatorNode(Node):
         self._graph_up = False  # the wait_for_publishers topics all had a publisher once
         self._controller_lost = False
         self._hold_until = -math.inf  # sim time until which commands are ignored (reset)
+        self._hold_at = float(self.get_parameter('hold_at').value)  # read only
         self._resumed = False  # simulator/resume was called (hold_at)
         self._step_held = False  # a lockstep step is due while the clock holds at hold_at
         self._setpoints = self._nominal_setpoints()
@@ -368,9 +369,8 @@ class SimulatorNode(Node):
 
     def _holding(self) -> bool:
         """Whether the lockstep clock holds at hold_at, waiting for simulator/resume."""
-        hold_at = float(self.get_parameter('hold_at').value)
-        return self._lockstep() and not self._resumed and hold_at >= 0.0 and \
-            self._now() >= hold_at - 1e-9
+        return self._lockstep() and not self._resumed and self._hold_at >= 0.0 and \
+            self._now() >= self._hold_at - 1e-9
 
     def _on_resume(self, request: Trigger.Request, response: Trigger.Response):
         held = self._holding()
