@@ -50,6 +50,8 @@ class RunSeries:
     adjustments: list = field(default_factory=list)           # StepAdjustment messages
     plans_before_adjustment: list = field(default_factory=list)  # len(plans) as each came
     path: list = field(default_factory=list)                  # (x, y) of the last nav Path
+    # left, right: (t, normal force) of the ankle F/T readings, once watch_foot_forces is called
+    foot_forces: tuple = field(default_factory=lambda: ([], []))
 
 
 def stamp_seconds(stamp) -> float:
@@ -244,6 +246,15 @@ class GraphSession:
         node.create_subscription(StepAdjustment, 'step_adjustment', on_adjustment, 50)
         node.create_subscription(PathMsg, 'plan', lambda m: setattr(s, 'path', [
             (p.pose.position.x, p.pose.position.y) for p in m.poses]), latched)
+
+    def watch_foot_forces(self) -> None:
+        """Keep the normal force of each ankle F/T reading (series.foot_forces) from now on.
+        Not by default: two more 50 Hz readers cost the simulator's publisher in every run."""
+        from geometry_msgs.msg import WrenchStamped
+        for side, topic in enumerate(('left_foot_wrench', 'right_foot_wrench')):
+            samples = self.series.foot_forces[side]
+            self.node.create_subscription(WrenchStamped, topic, lambda m, samples=samples: (
+                samples.append((stamp_seconds(m.header.stamp), m.wrench.force.z))), 50)
 
     # --- waiting ----------------------------------------------------------------------------
     def _spin_once(self, timeout: float) -> None:

@@ -45,6 +45,7 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
         f'terrain.min_height:={float(heights[0])!r}',
         f'terrain.max_height:={float(heights[1])!r}', f'terrain.seed:={int(seed)}']}
     with graph_for(trial, extra=tiles) as session:
+        session.watch_foot_forces()
         progress = Progress(trial)
         sim0 = session.sim_time()
         # it settles on the tiles until the stated start (the same in every run)
@@ -85,14 +86,33 @@ def run(trial: Trial, area_cm2: float, seed: int, step_length: float = STEP_LENG
     return write_result(trial, result)
 
 
+# N of normal force on a sole's F/T sensor taken as contact in the plot: the controller's
+# touchdown detector's threshold (the foot's own weight reads about 10 N)
+CONTACT_FORCE = 50.0
+
+
 def plot(trial: Trial, series, result: dict):
-    """COM height while crossing the tiles (paper Fig. uneven b)."""
+    """COM height while crossing the tiles (paper Fig. uneven b) over the feet's contact
+    states (normal force of each ankle F/T reading over CONTACT_FORCE)."""
     from biped_tools.run_plots import pyplot, save_time_figure
     plt = pyplot()
     com = np.array(series.com)
-    fig, ax = plt.subplots(figsize=(10, 4))
+    fig, (ax, contact_ax) = plt.subplots(2, 1, figsize=(10, 5.5), sharex=True,
+                                         gridspec_kw={'height_ratios': [3, 1]})
     ax.plot(com[:, 0], com[:, 3], 'g-', lw=1, label='COM height')
-    return save_time_figure(fig, ax, trial.directory / 'terrain_com_height.png', 'COM z (m)',
-                            f'Uneven terrain ({trial.model}, tiles {result["tile_area_cm2"]} '
-                            f'cm^2, seed {result["seed"]}): '
-                            f'{"crossed" if result["success"] else "failed"}')
+    ax.set_ylabel('COM z (m)')
+    ax.set_title(f'Uneven terrain ({trial.model}, tiles {result["tile_area_cm2"]} cm^2, seed '
+                 f'{result["seed"]}): {"crossed" if result["success"] else "failed"}')
+    ax.legend(loc='lower left', fontsize=8)
+    for level, (name, samples, colour) in enumerate(zip(
+            ('left', 'right'), series.foot_forces, ('tab:blue', 'tab:red'))):
+        if not samples:
+            continue
+        forces = np.array(samples)
+        touching = np.abs(forces[:, 1]) > CONTACT_FORCE
+        contact_ax.fill_between(forces[:, 0], level + 0.1, level + 0.9, where=touching,
+                                step='post', color=colour, lw=0, label=f'{name} sole')
+    contact_ax.set_yticks([0.5, 1.5], ['left', 'right'])
+    contact_ax.set_ylim(0, 2)
+    return save_time_figure(fig, contact_ax, trial.directory / 'terrain_com_height.png',
+                            'contact', f'sole in contact: F/T normal force > {CONTACT_FORCE:.0f} N')
