@@ -350,7 +350,8 @@ class ReferenceGeneratorNode(Node):
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
                                    f'extends the walk at t={apply_at:.3f} s')
             return
-        late = '' if apply_at is None or done != 'extended' or apply_at > t_out else \
+        # spliced into the reference of its own stated period is on time (not "0.000 s late")
+        late = '' if apply_at is None or done != 'extended' or apply_at > t_out - 1e-6 else \
             (f' {t_out - apply_at:.3f} s late (this run may differ from one on a quieter '
              f'machine) from t={t_out:.3f} s')
         self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
