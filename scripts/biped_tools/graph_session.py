@@ -13,7 +13,9 @@ import time
 from typing import Callable, List, Optional
 
 from biped_msgs.msg import WalkCommand, WalkingState
+from biped_planner.node_support.stamps import time_msg_of
 from biped_planner.rotations import quaternion_from_yaw, tilt_of_quaternion, yaw_of_quaternion
+from rosgraph_msgs.msg import Clock
 
 from biped_tools.node_graph import GraphOptions, NodeGraph
 
@@ -60,6 +62,7 @@ def stamp_seconds(stamp) -> float:
 
 VELOCITY_PERIOD = 0.1  # s of sim time between repeated cmd_vel messages (10 Hz teleop)
 DISCOVERY_WAIT = 0.5  # s of wall time to hear another graph's /clock on the domain before starting
+PACE_TOPIC = 'runner_clock'  # a paced session's sim time, read by the simulator (paced_by)
 
 
 def close_client(executor, node, context) -> None:
@@ -81,19 +84,31 @@ class GraphSession:
     def __init__(self, domain_id: int, bag_dir: Optional[Path] = None, nodes=None,
                  overrides=None, backend: str = 'pybullet', gui: bool = False,
                  keep_going: bool = False, map_file: Optional[Path] = None,
-                 compose=(), hold_at: Optional[float] = None, log=print) -> None:
+                 compose=(), hold_at: Optional[float] = None,
+                 pace_lead: Optional[float] = None, log=print) -> None:
         """:param map_file: the map map_server serves (nav2 YAML + image); None: an empty map
             around the simulator's start pose
         :param compose: groups of nodes each run in one process (NodeGraph)
         :param hold_at: the lockstep clock holds at this sim time (s) until resume_clock, so a
             scripted trial starts at the same sim time however long bring-up takes; None: it
-            runs on"""
+            runs on
+        :param pace_lead: the lockstep clock runs at most this far (s) ahead of the sim time
+            this session has acted on (simulator paced_by: PACE_TOPIC), so a scripted trial's
+            decisions meet the same sim time on a loaded machine; None: not paced"""
         self.log = log
         self.domain_id = domain_id
         self.hold_at = hold_at
         given = {node: list(values) for node, values in (overrides or {}).items()}
         if hold_at is not None:
             given.setdefault('simulator', []).append(f'hold_at:={hold_at}')
+        if pace_lead is not None:
+            given.setdefault('simulator', []).extend([f'paced_by:={PACE_TOPIC}',
+                                                      f'pace_lead:={float(pace_lead)!r}'])
+        self.pace_lead = pace_lead
+        # a scenario holds the clock back to here (s) while it waits for something it needs
+        # before a stated time (paced sessions only); None: the newest sim time
+        self.pace_limit: Optional[float] = None
+        self._pace_pub, self._paced = None, None
         self.graph = NodeGraph(GraphOptions(
             nodes=list(ALL_NODES if nodes is None else nodes), overrides=given,
             domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
@@ -199,6 +214,8 @@ class GraphSession:
                 self.log(f'[session] map ignored: {error}')
 
         node.create_subscription(OccupancyGrid, 'map', on_map, latched)
+        if self.pace_lead is not None:
+            self._pace_pub = node.create_publisher(Clock, PACE_TOPIC, 10)
         self.goal_pub = node.create_publisher(PoseStamped, 'goal_pose', 10)
         self.command_pub = node.create_publisher(WalkCommand, 'walk_command', 10)
         self.cmd_vel_pub = node.create_publisher(Twist, 'cmd_vel', 10)
@@ -276,8 +293,19 @@ class GraphSession:
             self.graph.check_alive()
             if predicate():
                 return True
+            self._publish_pace()  # what the predicate saw is acted on
             self._spin_once(0.02)
         return predicate()
+
+    def _publish_pace(self) -> None:
+        """Tell a paced simulator the sim time this session has acted on (held at pace_limit)."""
+        if self._pace_pub is None:
+            return
+        paced = self.sim_time() if self.pace_limit is None else \
+            min(self.sim_time(), self.pace_limit)
+        if self._paced is None or paced > self._paced:
+            self._paced = paced
+            self._pace_pub.publish(Clock(clock=time_msg_of(paced)))
 
     def subscriber_nodes(self, topic: str) -> set:
         """Names of the nodes that subscribe to topic, as discovered so far."""

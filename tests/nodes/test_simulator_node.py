@@ -3,6 +3,7 @@ import math
 import time
 
 from biped_msgs.srv import Push, SetTerrain
+from builtin_interfaces.msg import Time
 from geometry_msgs.msg import WrenchStamped
 from nav_msgs.msg import Odometry
 import pytest
@@ -55,10 +56,10 @@ class LockstepRig:
     """A lockstep simulator that waits for a controller, with one more parameter, and a client
     that plays the controller (answer_for) and watches the clock and /rosout."""
 
-    def __init__(self, ros_context, executor, parameter: Parameter) -> None:
+    def __init__(self, ros_context, executor, *parameters: Parameter) -> None:
         self.node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
             Parameter('wait_for_controller', value=True),
-            Parameter('lockstep_timeout', value=0.1), parameter]))
+            Parameter('lockstep_timeout', value=0.1), *parameters]))
         self.client = executor.track(rclpy.create_node('sim_test_client', context=ros_context))
         self.executor = executor
         self.joints = Collector(self.client, JointState, 'joint_states', 100)
@@ -150,6 +151,30 @@ def test_lockstep_holds_the_clock_at_hold_at_until_resumed(ros_context, executor
     again = call(dict(client=client, executor=executor), Trigger, 'simulator/resume',
                  Trigger.Request())
     assert again.success and 'not held' in again.message
+
+
+def test_a_paced_clock_runs_at_most_pace_lead_ahead_of_its_runner(ros_context, executor):
+    """A scripted runner that lags behind the graph: lockstep holds the clock pace_lead ahead
+    of the sim time the runner says it has acted on, says so, and runs on once the runner is
+    gone (a dead runner paces nothing)."""
+    rig = LockstepRig(ros_context, executor, Parameter('paced_by', value='runner_clock'),
+                      Parameter('pace_lead', value=0.1))
+    pace = rig.client.create_publisher(Clock, 'runner_clock', 10)
+    assert wait_for_subscribers(executor, pace)
+
+    def latest() -> float:
+        return max(m.clock.sec + m.clock.nanosec * 1e-9 for m in rig.clock.messages)
+
+    pace.publish(Clock(clock=Time(sec=0, nanosec=300_000_000)))
+    rig.answer_for(1.5)  # the controller answers every period: the clock stops at 0.3 + 0.1 s
+    assert latest() == pytest.approx(0.4)
+    assert rig.rosout.has('holds the clock at t=0.40', 'runner_clock reaches t=0.30')
+    pace.publish(Clock(clock=Time(sec=0, nanosec=500_000_000)))
+    rig.answer_for(1.0)
+    assert latest() == pytest.approx(0.6)
+    rig.client.destroy_publisher(pace)
+    rig.answer_for(1.5)
+    assert latest() > 0.7
 
 
 def test_push_service_moves_the_robot_and_rejects_bad_requests(sim):

@@ -38,6 +38,8 @@ COMMAND_DELAY = 0.25  # s after a step starts: its command's stated time (steps 
 # lap's end, as the COM up to that start foretells it (the walk goes on for about a step after
 # a STOP, so the lap still ends)
 STOP_LEAD_OF_LAP = 0.55
+PACE_MARGIN = 0.02  # s: a paced clock stops this far short of a step command's stated time
+PLAN_WAIT = 10.0  # s of wall time a step's command waits for the plan extended at its start
 RATE_WINDOW = 1.0  # s of COM samples before a step's start that give the sweep rate
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
 
@@ -181,7 +183,10 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
             states = session.series.states
             if states and states[-1][2] != state['step'] and states[-1][1] in STEPPING:
                 state.update(step=states[-1][2], since=states[-1][0] - states[-1][6],
-                             sent=False)
+                             sent=False, waiting_from=time.monotonic())
+                # the clock waits short of the command's stated time until it is decided
+                session.pace_limit = state['since'] + COMMAND_DELAY - PACE_MARGIN - \
+                    (session.pace_lead or 0.0)
             # One command per step, from the plan the robot extended at the step's start
             # (stamped with that start), stated for COMMAND_DELAY after it: the planner applies
             # it at the next phase (the double support) and extends with it at the next step,
@@ -193,12 +198,19 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
                     return False  # the COM up to the step's start decides, not the load
                 if lap.time_left(since, laps) <= STOP_LEAD_OF_LAP:
                     state['stop_at'] = since + COMMAND_DELAY
+                    session.pace_limit = None
                     return True
                 plans = [p for p in session.series.plans
                          if stamp_seconds(p.header.stamp) < since + 1e-6]
-                if (plans and stamp_seconds(plans[-1].header.stamp) > since - 1e-6) or \
-                        t >= since + COMMAND_DELAY:
+                extended = plans and stamp_seconds(plans[-1].header.stamp) > since - 1e-6
+                late = t >= since + COMMAND_DELAY or \
+                    time.monotonic() - state['waiting_from'] > PLAN_WAIT
+                if extended or late:
+                    if not extended:
+                        trial.log(f'[{trial.label}] no plan extended at t={since:.2f} s: the '
+                                  'step is steered from the newest (this run may differ)')
                     state['sent'] = True
+                    session.pace_limit = None
                     send_command(plans, since + COMMAND_DELAY)
             return False
 

@@ -19,8 +19,8 @@ from biped_msgs.msg import WalkCommand
 from biped_tools.graph_session import GraphSession, IDLE
 from biped_tools.paths import PAPER_MAP
 from biped_tools.run_plots import top_view, zmp_figure, zmp_inside_fraction
-from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, HOLD_AT, sample_at,
-                                         stated_start_time, Trial, write_result)
+from biped_tools.scenarios.trial import (fresh_bag_dir, graph_overrides, HOLD_AT, PACE_LEAD,
+                                         sample_at, stated_start_time, Trial, write_result)
 
 GOAL_TOLERANCE = 0.15  # m between the final pelvis and the goal
 NO_MAP_RETRIES = 5     # goals sent while the planner answers that it has no map yet
@@ -47,7 +47,8 @@ def walk_start_to_goal(out: Path, domain_id: int, model: str, timeout: float,
     wall_start = time.monotonic()
     # a scripted trial's clock holds until the session is ready, as in every scripted trial
     with GraphSession(domain_id, bag_dir=bag, overrides=overrides, map_file=PAPER_MAP,
-                      hold_at=HOLD_AT if stated else None, log=log) as session:
+                      hold_at=HOLD_AT if stated else None,
+                      pace_lead=PACE_LEAD if stated else None, log=log) as session:
         session.wait_until_ready()
         if stated:
             session.resume_clock()

@@ -60,6 +60,10 @@ STATED_START = 10.0  # s of sim time
 # was ready at 3-11 s of a running clock, and after 8 s a walk started at 20 s instead of 10 s:
 # another trial (an omni setting fell in the first run and walked in its two repeats).
 HOLD_AT = 2.0  # s of sim time
+# s of sim time the lockstep clock may run ahead of what the trial's runner has acted on
+# (simulator paced_by): its decisions, stated at least this far ahead, meet their stated times
+# however slowly the runner runs (a loaded runner was seconds behind the clock)
+PACE_LEAD = 0.1
 START_MARGIN = 2.0   # s of sim time the command needs before its start
 # A graph that does not come up in time is started once more before the trial fails: under
 # heavy load one graph in about 26 did not, and it stopped a whole table run.
@@ -153,7 +157,8 @@ def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0
     overrides = graph_overrides(trial.model, start, timing, given)
     for attempt in range(1, GRAPH_ATTEMPTS + 1):
         with GraphSession(trial.domain_id, bag_dir=bag if trial.record else None,
-                          overrides=overrides, hold_at=HOLD_AT, log=trial.node_log) as session:
+                          overrides=overrides, hold_at=HOLD_AT, pace_lead=PACE_LEAD,
+                          log=trial.node_log) as session:
             try:
                 session.wait_until_ready()
                 session.resume_clock()

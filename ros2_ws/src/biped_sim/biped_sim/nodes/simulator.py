@@ -12,6 +12,8 @@ Services: push (biped_msgs/Push), simulator/reset (std_srvs/Trigger: stand the r
 start pose; called by the state machine's reset), set_terrain (biped_msgs/SetTerrain),
 simulator/resume (std_srvs/Trigger: let a lockstep clock held at hold_at run on; scripted
 trials hold it there while they get ready).
+Subscribes with paced_by set: that topic (rosgraph_msgs/Clock, the sim time a scripted runner
+has acted on); lockstep then holds the clock pace_lead ahead of it while it has a publisher.
 
 Lockstep mode (default): while a controller publishes joint_commands, physics advances one
 control period only when the command answering the last sensor time has arrived, so a run is
@@ -95,6 +97,8 @@ class SimulatorNode(Node):
         self._controller_lost = False
         self._hold_until = -math.inf  # sim time until which commands are ignored (reset)
         self._hold_at = float(self.get_parameter('hold_at').value)  # read only
+        self._pace_lead = float(self.get_parameter('pace_lead').value)
+        self._paced_until = -math.inf  # sim time the pacing runner lets the clock reach
         self._resumed = False  # simulator/resume was called (hold_at)
         self._step_held = False  # a lockstep step is due while the clock holds at hold_at
         self._setpoints = self._nominal_setpoints()
@@ -138,6 +142,9 @@ class SimulatorNode(Node):
         self.create_service(Trigger, 'simulator/reset', self._on_reset)
         self.create_service(SetTerrain, 'set_terrain', self._on_set_terrain)
         self.create_service(Trigger, 'simulator/resume', self._on_resume)
+        paced_by = self.get_parameter('paced_by').value
+        self._pace_sub = None if not paced_by else self.create_subscription(
+            Clock, paced_by, self._on_pace, 10)
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self._readings = self._reset_robot()
         self._publish(self._readings)
@@ -291,6 +298,17 @@ class SimulatorNode(Node):
                                        'until simulator/resume is called (hold_at)',
                                        throttle_duration_sec=5.0)
             return
+        if self._waiting_for_pace():
+            # no sensors again: a repeated period would be a sample more in the runner's data
+            self._last_command_wall = now  # held for the runner, not for the controller
+            self.get_logger().info(
+                f'lockstep holds the clock at t={self._now():.2f} s until '
+                f'{self.get_parameter("paced_by").value} reaches '
+                f't={self._now() - self._pace_lead:.2f} s (paced_by)', throttle_duration_sec=5.0)
+            return
+        if self._step_held:  # the pacing runner is gone: its held step runs now
+            self._release_held_step()
+            return
         if not self._lockstep() or self._controller_lost or not (
                 self._controller_seen or self._command_sub.get_publisher_count() > 0):
             if self._controller_seen and not self._controller_lost and \
@@ -372,6 +390,24 @@ class SimulatorNode(Node):
         return self._lockstep() and not self._resumed and self._hold_at >= 0.0 and \
             self._now() >= self._hold_at - 1e-9
 
+    def _waiting_for_pace(self) -> bool:
+        """Whether the lockstep clock waits for the pacing runner: it has run pace_lead ahead
+        of it, and the runner's publisher is there (a runner that is gone paces nothing)."""
+        return self._pace_sub is not None and self._lockstep() and \
+            self._now() >= self._paced_until - 1e-9 and \
+            self._pace_sub.get_publisher_count() > 0
+
+    def _on_pace(self, msg: Clock) -> None:
+        self._paced_until = max(self._paced_until, seconds_of(msg.clock) + self._pace_lead)
+        self._release_held_step()
+
+    def _release_held_step(self) -> None:
+        """The step a hold deferred runs now, if nothing holds the clock any more."""
+        if self._step_held and not (self._holding() or self._waiting_for_pace()):
+            self._step_held = False
+            self._last_command_wall = time.monotonic()
+            self._step()
+
     def _on_resume(self, request: Trigger.Request, response: Trigger.Response):
         held = self._holding()
         self._resumed = True
@@ -379,15 +415,12 @@ class SimulatorNode(Node):
         response.message = (f'the clock resumes at t={self._now():.2f} s' if held else
                             f'the clock was not held (t={self._now():.2f} s)')
         self.get_logger().info(response.message)
-        if self._step_held:
-            self._step_held = False
-            self._last_command_wall = time.monotonic()
-            self._step()
+        self._release_held_step()
         return response
 
     def _step(self) -> None:
-        if self._holding():
-            self._step_held = True  # resume steps it
+        if self._holding() or self._waiting_for_pace():
+            self._step_held = True  # resume or the runner's pace steps it
             return
         self._last_step_wall = time.monotonic()
         try:

@@ -66,6 +66,12 @@ SIMULATOR_PARAMETERS = {
                 'called: a scripted trial gets ready there, so its commands meet the same sim '
                 'time however long that took on the wall clock (s); negative: no hold',
                 (-1.0, 1e6)),
+    'paced_by': ('', 'lockstep: a topic (rosgraph_msgs/Clock) on which a scripted runner '
+                 'publishes the sim time it has acted on; while it has a publisher, the clock '
+                 'never runs more than pace_lead ahead of it, so the runner\'s commands meet '
+                 'the same sim time however slowly it runs; empty: no pacing', None),
+    'pace_lead': (0.1, 'lockstep: how far the clock may run ahead of paced_by (s)',
+                  (0.0, 1e3)),
     'hung_controller_timeout': (10.0, 'wall time without a command after which a controller '
                                 'whose process is alive is lost all the same (hung) (s)',
                                 (0.1, 3600.0)),
