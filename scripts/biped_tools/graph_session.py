@@ -56,6 +56,14 @@ class RunSeries:
     foot_forces: tuple = field(default_factory=lambda: ([], []))
 
 
+def append_newer(samples: list, sample: tuple) -> None:
+    """Append a sensor sample (sim time first) unless its period is in already: a lockstep
+    simulator sends a held period's readings again while it waits, and a run's series must not
+    depend on how long it waited."""
+    if not samples or sample[0] > samples[-1][0]:
+        samples.append(sample)
+
+
 def stamp_seconds(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
@@ -63,6 +71,7 @@ def stamp_seconds(stamp) -> float:
 VELOCITY_PERIOD = 0.1  # s of sim time between repeated cmd_vel messages (10 Hz teleop)
 DISCOVERY_WAIT = 0.5  # s of wall time to hear another graph's /clock on the domain before starting
 PACE_TOPIC = 'runner_clock'  # a paced session's sim time, read by the simulator (paced_by)
+PACE_REPEAT = 0.2  # s of wall time after which a paced session sends its sim time again
 
 
 def close_client(executor, node, context) -> None:
@@ -108,7 +117,7 @@ class GraphSession:
         # a scenario holds the clock back to here (s) while it waits for something it needs
         # before a stated time (paced sessions only); None: the newest sim time
         self.pace_limit: Optional[float] = None
-        self._pace_pub, self._paced = None, None
+        self._pace_pub, self._paced = None, None  # the last pace sent: (sim time, wall time)
         self.graph = NodeGraph(GraphOptions(
             nodes=list(ALL_NODES if nodes is None else nodes), overrides=given,
             domain_id=domain_id, backend=backend, gui=gui, use_sim_time=True,
@@ -227,8 +236,8 @@ class GraphSession:
             o = m.pose.pose.orientation
             q = (o.x, o.y, o.z, o.w)
             p = m.pose.pose.position
-            s.pelvis.append((stamp_seconds(m.header.stamp), p.x, p.y, p.z, tilt_of_quaternion(q),
-                             yaw_of_quaternion(q)))
+            append_newer(s.pelvis, (stamp_seconds(m.header.stamp), p.x, p.y, p.z,
+                                    tilt_of_quaternion(q), yaw_of_quaternion(q)))
 
         def on_reference(m):
             if len(m.zmp_x):
@@ -238,9 +247,9 @@ class GraphSession:
                 s.zmp_reference.append((t, m.zmp_x[0], m.zmp_y[0]))
 
         node.create_subscription(Odometry, 'odom', on_odom, 50)
-        node.create_subscription(PointStamped, 'com', lambda m: s.com.append((
+        node.create_subscription(PointStamped, 'com', lambda m: append_newer(s.com, (
             stamp_seconds(m.header.stamp), m.point.x, m.point.y, m.point.z)), 50)
-        node.create_subscription(PointStamped, 'zmp', lambda m: s.zmp.append((
+        node.create_subscription(PointStamped, 'zmp', lambda m: append_newer(s.zmp, (
             stamp_seconds(m.header.stamp), m.point.x, m.point.y)), 50)
         self._reference_sub = node.create_subscription(ReferenceTrajectory,
                                                        'reference_trajectory', on_reference, 50)
@@ -271,7 +280,7 @@ class GraphSession:
         for side, topic in enumerate(('left_foot_wrench', 'right_foot_wrench')):
             samples = self.series.foot_forces[side]
             self.node.create_subscription(WrenchStamped, topic, lambda m, samples=samples: (
-                samples.append((stamp_seconds(m.header.stamp), m.wrench.force.z))), 50)
+                append_newer(samples, (stamp_seconds(m.header.stamp), m.wrench.force.z))), 50)
 
     # --- waiting ----------------------------------------------------------------------------
     def _spin_once(self, timeout: float) -> None:
@@ -303,8 +312,11 @@ class GraphSession:
             return
         paced = self.sim_time() if self.pace_limit is None else \
             min(self.sim_time(), self.pace_limit)
-        if self._paced is None or paced > self._paced:
-            self._paced = paced
+        now = time.monotonic()
+        # the same again after a while: a message sent before DDS matched the simulator's
+        # subscription is lost, and the clock would wait for it for ever
+        if self._paced is None or paced > self._paced[0] or now - self._paced[1] > PACE_REPEAT:
+            self._paced = (paced, now)
             self._pace_pub.publish(Clock(clock=time_msg_of(paced)))
 
     def subscriber_nodes(self, topic: str) -> set:

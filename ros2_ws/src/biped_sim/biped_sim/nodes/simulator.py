@@ -299,7 +299,9 @@ class SimulatorNode(Node):
                                        throttle_duration_sec=5.0)
             return
         if self._waiting_for_pace():
-            # no sensors again: a repeated period would be a sample more in the runner's data
+            # the sensors again, as in every hold: a runner that subscribed after they went out
+            # has no sim time to pace by until they come
+            self._hold_clock(now, timeout)
             self._last_command_wall = now  # held for the runner, not for the controller
             self.get_logger().info(
                 f'lockstep holds the clock at t={self._now():.2f} s until '
