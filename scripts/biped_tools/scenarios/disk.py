@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from biped_tools.graph_session import stamp_seconds, STEPPING
+from biped_tools.graph_session import IDLE, stamp_seconds, STEPPING
 from biped_tools.scenarios.sweep import grid, largest_completing, run_name
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
                                          stated_start, stop_walking, SWEEP_LIMITS, Trial,
@@ -39,6 +39,7 @@ COMMAND_DELAY = 0.25  # s after a step starts: its command's stated time (steps 
 # a STOP, so the lap still ends)
 STOP_LEAD_OF_LAP = 0.55
 PACE_MARGIN = 0.02  # s: a paced clock stops this far short of a step command's stated time
+END_AFTER_IDLE = 0.5  # s of sim time: the return is measured this long after the walk ended
 PLAN_WAIT = 10.0  # s of wall time a step's command waits for the plan extended at its start
 RATE_WINDOW = 1.0  # s of COM samples before a step's start that give the sweep rate
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
@@ -227,7 +228,11 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         completed = completed and lap.swept >= 2.0 * math.pi * laps
         result = base_result(trial, session, wall0, sim0)
         series = session.series
-    end = np.array(series.com[-1][1:3])
+    # where it stands END_AFTER_IDLE after the walk ended, not the last sample the runner saw
+    idle = next((row[0] for row in series.states
+                 if row[1] == IDLE and row[0] >= state.get('stop_at', math.inf)), None)
+    at_end = None if idle is None else sample_at(series.com, idle + END_AFTER_IDLE)
+    end = np.array((at_end or series.com[-1])[1:3])
     radii = lap.settled_radii()
     result.update({
         'step_length_m': step_length, 'swept_deg': round(math.degrees(lap.swept), 1),
