@@ -58,3 +58,20 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if item.path.parent.name in RERUN_DIRECTORIES:
             item.add_marker(pytest.mark.flaky(reruns=1))
+
+
+# Why a rerun test failed the first time: the rerun plugin lists it without its message, and
+# the flaky page had "message not kept" for most rows.
+FIRST_FAILURES = []
+FIRST_FAILURE_CHARS = 4000  # the end of the report: the assertion and the lines before it
+
+
+def pytest_runtest_logreport(report):
+    if report.outcome == 'rerun':
+        FIRST_FAILURES.append((report.nodeid, report.longreprtext[-FIRST_FAILURE_CHARS:]))
+
+
+def pytest_terminal_summary(terminalreporter):
+    for nodeid, text in FIRST_FAILURES:
+        terminalreporter.write_sep('-', f'first failure of {nodeid} (it ran again)')
+        terminalreporter.write_line(text)
