@@ -92,6 +92,10 @@ class WalkingControllerParams:
         0.1, 'with the planned swing target: a swing starts where the foot was latched and '
         'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
         'planned swing from its planned start', low=0.0, high=10.0)
+    swing_smoothing_time_constant: float = parameter(
+        0.0, 'with the planned swing target: each swing foot follows its target through a '
+        'first-order lag of this time constant, for a softer lift-off and landing (s); 0: off',
+        low=0.0, high=1.0)
     dcm_gain: float = parameter(3.0, 'DCM feedback proportional gain k_p (1/s)', low=0.0,
                                 high=50.0)
     dcm_integral_gain: float = parameter(2.0, 'DCM feedback integral gain k_i (1/s^2)',

@@ -80,6 +80,7 @@ from biped_mpc.qp_backend import QpStatus
 from biped_mpc.reference_adapter import cycle_references, CycleReferences
 from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
+from biped_mpc.swing_smoothing import SwingSmoothing
 from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
 from biped_planner.rotations import quaternion_to_matrix, rotation_x, rotation_y, rotation_z
@@ -159,6 +160,7 @@ class WalkingController:
         self._dt = params.mpc.dt
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
         self._swing_start = SwingStart(params.swing_start_time_constant)
+        self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
         self._com_height = lipm.com_height
@@ -197,6 +199,7 @@ class WalkingController:
         self._pelvis = pelvis
         self._servo.reset(pelvis)
         self._swing_start.reset()
+        self._swing_smoothing.reset()
         if self._balance is not None:
             self._balance.reset(soles)
         self._com_history = []
@@ -388,6 +391,10 @@ class WalkingController:
                 np.array([feet[side][:2] for side in SIDES]))
             for side in SIDES:
                 feet[side][:2] += offsets[side]
+            smoothed = self._swing_smoothing.update(
+                self._dt, self._stance.held(support_next), np.array([f[:3] for f in feet]))
+            for side in SIDES:
+                feet[side][:3] = smoothed[side]
         return targets
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
