@@ -4,8 +4,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.validation import finite_array
+from biped_mpc.errors import InputError
+from biped_mpc.validation import check_time_constant, finite_array
 from biped_planner.sides import SIDES
 
 
@@ -26,10 +26,7 @@ class SwingStart:
         """:param time_constant: decay time of the lift-off offset (s), >= 0
         :raises ConfigError: if it is negative or not finite
         """
-        if not (isinstance(time_constant, (int, float)) and math.isfinite(time_constant)
-                and time_constant >= 0.0):
-            raise ConfigError(f'time_constant must be a finite number >= 0 s, '
-                              f'got {time_constant!r}')
+        check_time_constant(time_constant)
         self.time_constant = float(time_constant)
         self.reset()
 

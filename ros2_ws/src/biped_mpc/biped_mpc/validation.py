@@ -68,6 +68,13 @@ def check_positive(name: str, value, high: float = math.inf) -> None:
         raise ConfigError(f'{name} = {value!r} must be a finite number in (0, {high}]')
 
 
+def check_time_constant(value) -> None:
+    """:raises ConfigError: unless value is a finite number >= 0 (s; 0: no lag)"""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+            not math.isfinite(value) or value < 0.0:
+        raise ConfigError(f'time_constant must be a finite number >= 0 s, got {value!r}')
+
+
 def validated_pose(name: str, position, rotation) -> tuple:
     """Return a pose as float arrays (position (3,), rotation (3, 3)).
 
