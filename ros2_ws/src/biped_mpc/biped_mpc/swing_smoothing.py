@@ -5,7 +5,7 @@ from typing import Sequence
 import numpy as np
 
 from biped_mpc.errors import InputError
-from biped_mpc.validation import check_time_constant, finite_array
+from biped_mpc.validation import check_period, check_time_constant, finite_array
 from biped_planner.sides import SIDES
 
 
@@ -40,18 +40,15 @@ class SwingSmoothing:
         :return: (2, 3) the targets to follow
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         targets = finite_array('targets', targets, (2, 3))
         if len(held) != 2:
             raise InputError('held must have one entry per foot')
-        gain = 1.0 - math.exp(-dt / self.time_constant) if self.time_constant > 0.0 else 1.0
-        out = targets.copy()
+        if self.time_constant == 0.0:  # the target exactly, not previous + (target - previous)
+            return targets.copy()
+        gain = 1.0 - math.exp(-dt / self.time_constant)
         for side in SIDES:
             previous = self._filtered[side]
-            if held[side] or previous is None or gain == 1.0:
-                self._filtered[side] = targets[side].copy()
-            else:
-                self._filtered[side] = previous + gain * (targets[side] - previous)
-            out[side] = self._filtered[side]
-        return out
+            self._filtered[side] = targets[side].copy() if held[side] or previous is None \
+                else previous + gain * (targets[side] - previous)
+        return np.array(self._filtered)

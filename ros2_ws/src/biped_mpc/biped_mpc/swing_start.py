@@ -5,7 +5,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from biped_mpc.errors import InputError
-from biped_mpc.validation import check_time_constant, finite_array
+from biped_mpc.validation import check_period, check_time_constant, finite_array
 from biped_planner.sides import SIDES
 
 
@@ -51,8 +51,7 @@ class SwingStart:
         :return: (2, 2) x, y offsets to add to the planned targets of the swing feet (m)
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         planned = finite_array('planned', planned, (2, 2))
         if len(held) != 2 or len(latched) != 2:
             raise InputError('held and latched must have one entry per foot')

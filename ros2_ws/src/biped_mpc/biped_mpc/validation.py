@@ -68,6 +68,12 @@ def check_positive(name: str, value, high: float = math.inf) -> None:
         raise ConfigError(f'{name} = {value!r} must be a finite number in (0, {high}]')
 
 
+def check_period(dt) -> None:
+    """:raises InputError: unless dt, a control cycle's period, is a finite number > 0 (s)"""
+    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
+        raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+
+
 def check_time_constant(value) -> None:
     """:raises ConfigError: unless value is a finite number >= 0 (s; 0: no lag)"""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or \

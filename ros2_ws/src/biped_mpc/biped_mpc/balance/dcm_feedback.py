@@ -6,7 +6,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.validation import finite_array
+from biped_mpc.validation import check_period, finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
 
 _INSIDE_TOLERANCE = 1e-12
@@ -182,8 +182,7 @@ class DcmFeedback:
         :return: the desired ZMP and the error terms
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         error = (finite_array('dcm_reference', dcm_reference, (2,))
                  - finite_array('dcm', dcm, (2,)))
         zmp_reference = finite_array('zmp_reference', zmp_reference, (2,))

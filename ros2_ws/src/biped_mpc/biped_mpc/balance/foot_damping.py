@@ -4,8 +4,8 @@ import math
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.validation import finite_array
+from biped_mpc.errors import ConfigError
+from biped_mpc.validation import check_period, finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
 
 
@@ -105,8 +105,7 @@ class FootDamping:
         :return: the offsets and what limited them
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         error = (finite_array('measured_torque', measured_torque, (2,))
                  - finite_array('desired_torque', desired_torque, (2,)))
         p = self.params

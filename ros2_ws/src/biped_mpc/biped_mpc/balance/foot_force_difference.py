@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.validation import finite_array
+from biped_mpc.validation import check_period, finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.sides import LEFT, RIGHT
 
@@ -110,8 +110,7 @@ class FootForceDifference:
         :return: the offsets
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         desired = finite_array('desired_forces', desired_forces, (2,))
         measured = finite_array('measured_forces', measured_forces, (2,))
         if len(swinging) != 2:

@@ -5,8 +5,8 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.validation import finite_array
+from biped_mpc.errors import ConfigError
+from biped_mpc.validation import check_period, finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
@@ -188,8 +188,7 @@ class FootWrenchFilter:
         :return: the filtered ground reaction
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         rotation = finite_array('sensor_rotation', sensor_rotation, (3, 3))
         sole_rotation = finite_array('sole_rotation', sole_rotation, (3, 3))
         sensor_position = finite_array('sensor_position', sensor_position, (3,))

@@ -1,6 +1,5 @@
 """One stabilizer cycle between the MPC and the IK: the balance modules wired together."""
 from dataclasses import dataclass, field
-import math
 from typing import Optional, Tuple
 
 import numpy as np
@@ -15,7 +14,7 @@ from biped_mpc.balance.vertical_drift import VerticalDrift, VerticalDriftParams
 from biped_mpc.balance.wrench_distribution import (
     DistributionStatus, WrenchDistributionParams, WrenchDistributor)
 from biped_mpc.errors import ConfigError, InputError
-from biped_mpc.validation import finite_array
+from biped_mpc.validation import check_period, finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
 from biped_planner.rotations import rotation_z
 from biped_planner.sides import LEFT, RIGHT, SIDES, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
@@ -194,8 +193,7 @@ class Stabilizer:
         :return: the reference modifications and the diagnostics
         :raises InputError: for a non-finite or misshaped input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         com = finite_array('com', measurement.com, (3,))
         positions = finite_array('feet_positions', measurement.feet_positions, (2, 3))
         yaws = finite_array('feet_yaws', measurement.feet_yaws, (2,))

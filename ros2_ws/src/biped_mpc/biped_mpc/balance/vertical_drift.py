@@ -3,6 +3,7 @@ from dataclasses import dataclass
 import math
 
 from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.validation import check_period
 from biped_planner.parameter_fields import parameter, validate_fields
 
 
@@ -78,8 +79,7 @@ class VerticalDrift:
         :return: the common offset
         :raises InputError: for a non-finite input or dt <= 0
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0.0):
-            raise InputError(f'dt must be a finite number > 0 s, got {dt!r}')
+        check_period(dt)
         for name, value in (('desired_height', desired_height),
                             ('measured_height', measured_height)):
             if not (isinstance(value, (int, float)) and math.isfinite(value)):

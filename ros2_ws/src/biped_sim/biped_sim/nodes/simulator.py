@@ -100,7 +100,7 @@ class SimulatorNode(Node):
         self._pace_lead = float(self.get_parameter('pace_lead').value)
         self._paced_until = -math.inf  # sim time the pacing runner lets the clock reach
         self._resumed = False  # simulator/resume was called (hold_at)
-        self._step_held = False  # a lockstep step is due while the clock holds at hold_at
+        self._step_held = False  # a lockstep step is due while hold_at or the pace holds it
         self._setpoints = self._nominal_setpoints()
         self._previous_setpoints = None
         self._velocities = np.zeros(len(self._names))
