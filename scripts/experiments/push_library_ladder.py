@@ -100,8 +100,9 @@ def main() -> None:
     forces = [float(f) for f in args.forces.split(',')]
     robot = coman_like()
     params = WalkingControllerParams(robot=robot.controller_model, model='three_mass',
-                                     balance='stabilizer', swing_target='planned',
-                                     **settings['ctl'])
+                                     **{'balance': 'stabilizer', 'swing_target': 'planned',
+                                        'swing_smoothing_time_constant':
+                                            push_trial.RECOVERY_SWING_LAG, **settings['ctl']})
     adjuster = (replace(push_trial.HUMANOID_ADJUSTER, **settings['adj'])
                 if args.adjustment == 'on' else None)
     limits = replace(push_trial.HUMANOID_STEP_LIMITS, **settings['qp'])

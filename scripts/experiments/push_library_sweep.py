@@ -64,7 +64,8 @@ def main() -> None:
     robot = coman_like()
     backend = PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
     params = WalkingControllerParams(robot=robot.controller_model, model=args.model,
-                                     balance='stabilizer', swing_target='planned')
+                                     balance='stabilizer', swing_target='planned',
+                                     swing_smoothing_time_constant=push_trial.RECOVERY_SWING_LAG)
     results = {}
     wall = time.monotonic()
     for direction in directions:

@@ -11,6 +11,7 @@ import sys
 import numpy as np
 
 from biped_tools.graph_session import GraphSession
+from biped_tools.scenarios import push_directions
 from ros_harness import domain_id_for_worker
 
 START = 20.0  # s of sim time: the walk's start_time, well after the graph is ready (the
@@ -25,7 +26,10 @@ WALK = 6.0   # s of walking compared: the start and eight steps, through the pla
 
 # the step adjuster on, with the controller it needs (README, "Pushes from every direction")
 ADJUSTING = {'reference_generator': ['step_adjustment.enabled:=true'],
-             'mpc_controller': ['balance:=stabilizer', 'swing_target:=planned']}
+             'mpc_controller': list(push_directions.CONTROLLER)}
+# the paper's feed-forward cycle
+OPEN_LOOP = {'mpc_controller': ['balance:=open_loop', 'swing_target:=masses',
+                                'swing_smoothing_time_constant:=0.0']}
 PUSH = (0.0, 150.0, START + 2.0)  # N, N, s: sideways, 2 s into the walk (a single support)
 GOAL_WALK = (('command', 2), ('goal_x', 1.5))  # GOTO: the planner plans anew after adjustments
 
@@ -105,15 +109,17 @@ def test_a_fall_while_the_graph_comes_up_on_the_tiles_has_one_time_quiet_and_loa
     """100 cm^2 seed 2 fells the open loop before its walk, while this runner's client may not
     yet be listening: the fall is timed by the state machine (its FALLEN phase's start), and
     the references stand from the first cycle on the feet the controller measured, so both
-    runs fall at the same sim time (before: 4.02 and 1.5 s, the times the runner first looked)."""
+    runs fall at the same sim time (before: 4.02 and 1.5 s, the times the runner first looked).
+    The stabilizer (the default) stands these tiles."""
     from biped_tools.scenarios import terrain
     from biped_tools.scenarios.trial import Trial
     results = []
     for busy, domain in ((0, domain_id_for_worker()), (2, domain_id_for_worker() + 2)):
         with busy_loops(busy):
             results.append(terrain.run(Trial('terrain', 'three_mass', f'busy{busy}', tmp_path,
-                                             domain, record=False, log=lambda line: None,
-                                             node_log=print), 100, seed=2))
+                                             domain, record=False, overrides=OPEN_LOOP,
+                                             log=lambda line: None, node_log=print),
+                                       100, seed=2))
     quiet, loaded = results
     assert quiet['fell_standing'] and loaded['fell_standing']
     assert quiet['fall_sim_time_s'] == loaded['fall_sim_time_s']

@@ -21,6 +21,7 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from biped_sim.push_trial import RECOVERY_SWING_LAG
 from biped_tools.graph_session import stamp_seconds
 from biped_tools.scenarios import sweep
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
@@ -41,7 +42,9 @@ PHASES = {
     'early_single_left': ('left', 0.25 * TIMING[0]),
 }
 SUPPORT_NAMES = {0: 'left', 1: 'right'}  # WalkingState.SUPPORT_LEFT / SUPPORT_RIGHT
-CONTROLLER = ['balance:=stabilizer', 'swing_target:=planned']
+# the stabilizer with recovery steps that land on time (biped_sim.push_trial.RECOVERY_SWING_LAG)
+CONTROLLER = ['balance:=stabilizer', 'swing_target:=planned',
+              f'swing_smoothing_time_constant:={RECOVERY_SWING_LAG}']
 
 
 def forces(first: float = 80.0, maximum: float = 320.0, step: float = 20.0) -> List[float]:

@@ -82,10 +82,10 @@ class WalkingControllerParams:
     tilt_gain: float = parameter(0.2, 'posture feedback against the measured roll and pitch',
                                  low=0.0, high=5.0)
     # --- balance: the stabilizer between the MPC and the IK (biped_mpc.balance)
-    balance: str = parameter(BALANCE_OPEN_LOOP, 'stabilizer (DCM feedback, wrench distribution, '
+    balance: str = parameter(BALANCE_STABILIZER, 'stabilizer (DCM feedback, wrench distribution, '
                              'foot damping, force difference, drift, contact-aware landing) or '
                              'open_loop (the feed-forward cycle)', choices=BALANCE_MODES)
-    swing_target: str = parameter(SWING_TARGET_MASSES, 'horizontal swing foot target: planned '
+    swing_target: str = parameter(SWING_TARGET_PLANNED, 'horizontal swing foot target: planned '
                                   '(the reference trajectory) or masses (2 leg mass - hip)',
                                   choices=SWING_TARGETS)
     swing_start_time_constant: float = parameter(
@@ -93,7 +93,7 @@ class WalkingControllerParams:
         'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
         'planned swing from its planned start', low=0.0, high=10.0)
     swing_smoothing_time_constant: float = parameter(
-        0.0, 'with the planned swing target: each swing foot follows its target through a '
+        0.07, 'with the planned swing target: each swing foot follows its target through a '
         'first-order lag of this time constant, for a softer lift-off and landing (s); 0: off',
         low=0.0, high=1.0)
     dcm_gain: float = parameter(3.0, 'DCM feedback proportional gain k_p (1/s)', low=0.0,

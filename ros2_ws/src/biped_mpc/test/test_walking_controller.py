@@ -113,7 +113,9 @@ def _single_support_time(reference, support):
 
 @pytest.mark.parametrize('support', [SUPPORT_LEFT, SUPPORT_RIGHT])
 def test_masses_map_to_pelvis_and_feet_targets(robot, reference, ik, support):
-    controller = WalkingController(WalkingControllerParams(robot=robot))  # swing from masses
+    # The paper's open-loop cycle: the swing foot from the leg masses.
+    controller = WalkingController(WalkingControllerParams(robot=robot, balance='open_loop',
+                                                           swing_target='masses'))
     t = _single_support_time(reference, support)
     feedback = standing_feedback(ik)
     controller.reset(t, feedback)

@@ -41,6 +41,10 @@ T_START = 0.5
 PUSH_DURATION = 0.1
 FIRST_PUSH_AFTER = 2.0   # s: the push falls in the first step of its phase after this
 RECOVERY = 1.5           # s walked after the push ends; the falls seen came within 1.2 s
+# The controller's swing lag for recovery steps (swing_smoothing_time_constant, s): the default
+# 0.07 s lands each step softly and a little late, which costs the pushes that need a step
+# (docs/controller_notes.md, "Recovery steps land on time").
+RECOVERY_SWING_LAG = 0.0
 # The graph's push-directions schedule (biped_tools.scenarios.push_directions, the README's
 # command): the first push 3 s into the walk, then one every SCHEDULE_INTERVAL s, each watched
 # until 1 s before the next would start.

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
-from biped_sim.push_trial import HUMANOID_ADJUSTER, run_push_trial
+from biped_sim.push_trial import HUMANOID_ADJUSTER, RECOVERY_SWING_LAG, run_push_trial
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 
@@ -19,6 +19,7 @@ def trial(robot, **overrides):
     try:
         controller = WalkingController(WalkingControllerParams(
             robot=robot.controller_model, balance='stabilizer', swing_target='planned',
+            swing_smoothing_time_constant=RECOVERY_SWING_LAG,
             **overrides))
         return run_push_trial(sim, controller, robot.controller_model, TOWARDS_STANCE_FORCE,
                               math.radians(270.0), 'early_single', HUMANOID_ADJUSTER)

@@ -165,9 +165,11 @@ def test_output_noise_reaches_the_zmp_only(robot):
 
 def walk(robot, n_steps, step_length, **controller):
     backend = ModelPlantBackend(robot)
-    controller = WalkingController(WalkingControllerParams(robot=robot.controller_model,
-                                                           pelvis_velocity_gain=0.0,
-                                                           tilt_gain=0.0, **controller))
+    # The paper's feed-forward cycle: the model plant measures no contact torques for the
+    # stabilizer's foot damping.
+    controller = WalkingController(WalkingControllerParams(
+        robot=robot.controller_model, pelvis_velocity_gain=0.0, tilt_gain=0.0,
+        balance='open_loop', swing_target='masses', **controller))
     footsteps = straight_footsteps(n_steps, step_length, 0.14)
     reference = WalkingReference(footsteps, StepTiming(0.4, 0.2), ReferenceParams(
         com_height=0.497, foot_length=0.2, foot_width=0.1), t_start=0.5)

@@ -8,6 +8,7 @@ from biped_mpc.walking_controller import WalkingController, WalkingControllerPar
 from biped_planner.sides import SUPPORT_RIGHT
 from biped_sim.errors import ConfigError
 from biped_sim.push_trial import (HUMANOID_ADJUSTER, HUMANOID_STEP_LIMITS, PHASES, push_start,
+                                  RECOVERY_SWING_LAG,
                                   run_push_schedule, run_push_trial, SCHEDULE_FIRST_PUSH,
                                   T_START, TIMING, walk_in_place_reference, walk_reference)
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
@@ -28,7 +29,8 @@ def trial(robot, adjuster):
     sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
     try:
         controller = WalkingController(WalkingControllerParams(
-            robot=robot.controller_model, balance='stabilizer', swing_target='planned'))
+            robot=robot.controller_model, balance='stabilizer', swing_target='planned',
+            swing_smoothing_time_constant=RECOVERY_SWING_LAG))
         return run_push_trial(sim, controller, robot.controller_model, LATERAL_FORCE,
                               math.radians(90.0), 'early_single', adjuster)
     finally:
@@ -70,7 +72,8 @@ def schedule(robot, forces, interval=3.0):
     sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
     try:
         controller = WalkingController(WalkingControllerParams(
-            robot=robot.controller_model, balance='stabilizer', swing_target='planned'))
+            robot=robot.controller_model, balance='stabilizer', swing_target='planned',
+            swing_smoothing_time_constant=RECOVERY_SWING_LAG))
         return run_push_schedule(sim, controller, robot.controller_model, forces, 0.0,
                                  'early_single', interval=interval)
     finally:
