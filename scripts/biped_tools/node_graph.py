@@ -16,6 +16,7 @@ import threading
 import time
 from typing import Dict, List, Optional
 
+from biped_planner.node_support.node_runner import DUMP_STACKS_SIGNAL
 from biped_tools.paths import INSTALL
 
 
@@ -66,6 +67,7 @@ CONTAINER = Path(__file__).resolve().parent.parent / 'node_container.py'
 # Nodes not given use_sim_time: the simulator makes the clock, and the controller keeps time by
 # the stamps of its inputs (its timers are wall-clock), so /clock would only wake it up.
 CLOCK_FREE_NODES = ('simulator', 'mpc_controller')
+STACK_DUMP_WAIT = 1.0  # s for a hung node to write its stacks before SIGKILL
 
 
 def available_nodes() -> List[str]:
@@ -281,7 +283,10 @@ class NodeGraph:
             try:
                 process.wait(timeout=max(0.05, deadline - time.monotonic()))
             except subprocess.TimeoutExpired:
-                self.log(f'[bringup] {name} ignored SIGINT for {grace} s: SIGKILL')
+                self.log(f'[bringup] {name} ignored SIGINT for {grace} s: its stacks, then '
+                         'SIGKILL')
+                process.send_signal(DUMP_STACKS_SIGNAL)
+                time.sleep(STACK_DUMP_WAIT)
                 os.killpg(process.pid, signal.SIGKILL)
                 process.wait()
         for thread in self._threads:

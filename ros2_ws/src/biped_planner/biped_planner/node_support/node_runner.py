@@ -1,4 +1,5 @@
 """The main loop shared by every node of the biped stack."""
+import faulthandler
 import os
 import signal
 import threading
@@ -8,6 +9,9 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
+
+
+DUMP_STACKS_SIGNAL = signal.SIGUSR1
 
 
 def make_executor(context=None):
@@ -45,6 +49,10 @@ def run_nodes(node_factories: Sequence[Callable[[], Node]], args=None) -> None:
     stop = threading.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda *_: stop.set())
+    # A node that hangs gets SIGUSR1 from the bring-up before SIGKILL: every thread's Python
+    # stack goes to stderr, the only trace of where it hung (faulthandler's C-level handler
+    # runs even when the interpreter never returns from a call into the executor).
+    faulthandler.register(DUMP_STACKS_SIGNAL, all_threads=True)
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     nodes = []
     executor = make_executor()
