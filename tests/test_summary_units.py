@@ -87,6 +87,29 @@ def test_a_malformed_p_is_refused_before_any_trial_starts(capsys):
     assert 'expected node:param:=value' in capsys.readouterr().err
 
 
+@pytest.mark.parametrize('heights', [('0.03', '0.02'), ('-0.01', '0.05'), ('0.0', '0.5'),
+                                     ('nan', '0.05')])
+def test_tile_heights_out_of_order_or_range_are_refused(capsys, heights):
+    from biped_tools.scenarios.command import main
+    with pytest.raises(SystemExit) as exit_info:
+        main(['terrain', '--no-bag', '--heights', *heights])
+    assert exit_info.value.code == 2
+    assert '--heights' in capsys.readouterr().err
+
+
+def test_the_harder_tile_set_reaches_the_trials_under_its_own_name(monkeypatch, tmp_path):
+    from biped_tools.scenarios import command, terrain
+    calls = []
+
+    def run(trial, area, seed, side, stand, heights):
+        calls.append((trial.setting, area, seed, heights))
+        return {'success': False}
+    monkeypatch.setattr(terrain, 'run', run)
+    assert command.main(['terrain', '--no-bag', '--out', str(tmp_path), '--tile-areas', '100',
+                         '--seeds', '2', '--heights', '0.0', '0.05', '--model', 'lipm']) == 1
+    assert calls == [('100cm2_seed2_0-50mm', 100.0, 2, (0.0, 0.05))]
+
+
 class _ClockOnly:
     def __init__(self, t: float) -> None:
         self.t = t

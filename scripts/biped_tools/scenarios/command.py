@@ -12,6 +12,7 @@ result.json and its plots to output/scenarios/<scenario>/<model>/<setting>/.
                [--gaits in_place forward] [--adjustment off on] [--forces 80 110 ...]
                [--repeats 1]
   scenarios.py terrain [--tile-areas 100 400 625] [--seeds 1 2 3] [--side 4] [--stand 30]
+                       [--heights 0.0 0.05]
   scenarios.py goal
   scenarios.py summary [--seeds 1 2 3] [--jobs 2] [--repeats 3]   (all of them, both models,
                                                                   the table)
@@ -90,6 +91,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument('--side', type=float, default=terrain.SIDE)
     p.add_argument('--stand', type=float, default=0.0,
                    help='s the robot stands on the tiles before it walks (issue: 30)')
+    p.add_argument('--heights', type=float, nargs=2, default=list(terrain.HEIGHTS),
+                   metavar=('MIN', 'MAX'), help='m, tile heights (the paper: 0.025 0.05; the '
+                   'harder set: 0.0 0.05)')
     sub.add_parser('goal', parents=[common], help='START -> GOAL around obstacles')
     p = sub.add_parser('summary', parents=[common, repeats(3)],
                        help='every scenario, both models, table')
@@ -159,8 +163,11 @@ def run_scenario(args) -> int:
                 print(f'\n{model}, {gait}:\n' + push_directions.table(
                     [c for c in cells if c['gait'] == gait]), flush=True)
         elif args.scenario == 'terrain':
-            results.extend(terrain.run(trial('terrain', f'{area:g}cm2_seed{seed}'), area, seed,
-                                       side=args.side, stand=args.stand)
+            heights = tuple(args.heights)
+            label = '' if heights == terrain.HEIGHTS else \
+                f'_{1000 * heights[0]:g}-{1000 * heights[1]:g}mm'
+            results.extend(terrain.run(trial('terrain', f'{area:g}cm2_seed{seed}{label}'), area,
+                                       seed, side=args.side, stand=args.stand, heights=heights)
                            for area in args.tile_areas for seed in args.seeds)
         elif args.scenario == 'goal':
             results.append(start_goal.run(trial('goal', 'paper_map')))
@@ -206,6 +213,10 @@ def main(argv=None) -> int:
         parse_overrides(getattr(args, 'param', []))
     except argparse.ArgumentTypeError as error:
         parser.error(str(error))
+    heights = getattr(args, 'heights', terrain.HEIGHTS)
+    if not 0.0 <= heights[0] <= heights[1] <= terrain.MAX_HEIGHT:
+        parser.error(f'--heights {heights[0]} {heights[1]}: need 0 <= MIN <= MAX <= '
+                     f'{terrain.MAX_HEIGHT} m')
     if args.scenario == 'summary' and args.param:
         parser.error('summary does not take -p: its table is measured with the nodes\' '
                      'configured parameters (run a scenario with -p instead)')

@@ -18,6 +18,7 @@ from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress
 SIDE = PAPER_SIDE       # m, the library's paper_terrain too: the same tiles for a seed
 BEHIND = PAPER_BEHIND   # m of tiles behind the robot's start: it starts on them (paper)
 HEIGHTS = (0.025, 0.05)  # m
+MAX_HEIGHT = 0.2  # m, the highest tile a scenario lays (a step of the robot's shin)
 TILE_AREAS_CM2 = (100, 400, 625)
 STEP_LENGTH = 0.1       # m per step
 EXIT_MARGIN = 0.3       # m past the far edge
