@@ -25,6 +25,10 @@ def test_a_quarter_lap_around_the_disk_keeps_near_the_2_m_circle(tmp_path):
     assert 2.0 - 0.35 <= result['radius_min_m'] and result['radius_max_m'] <= 2.0 + 0.35
     assert (tmp_path / 'disk' / 'three_mass' / '0.15' / 'bag' / 'metadata.yaml').exists()
     assert (tmp_path / 'disk' / 'three_mass' / '0.15' / 'disk_top_view.png').exists()
+    # every node's log, kept beside the result
+    node_log = (tmp_path / 'disk' / 'three_mass' / '0.15' / 'nodes.log').read_text()
+    assert '[bringup] all nodes up' in node_log
+    assert 'reference generator ready' in node_log and 'MPC ready' in node_log
 
 
 def test_omnidirectional_setpoints_walk_forward_then_diagonally(tmp_path):

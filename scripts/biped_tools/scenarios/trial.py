@@ -25,7 +25,8 @@ class Trial:
     :param record: write a rosbag2 of the run
     :param overrides: extra node parameters, {node: ['name:=value', ...]}
     :param log: progress and messages
-    :param node_log: the graph's node log lines (bring-up prefixes them); dropped by default
+    :param node_log: the graph's node log lines (bring-up prefixes them), besides the trial's
+        nodes.log; not printed by default
     """
 
     scenario: str
@@ -68,6 +69,9 @@ START_MARGIN = 2.0   # s of sim time the command needs before its start
 # A graph that does not come up in time is started once more before the trial fails: under
 # heavy load one graph in about 26 did not, and it stopped a whole table run.
 GRAPH_ATTEMPTS = 2
+# Every node's log lines of a trial, kept beside its result: a run that differs from its
+# repeats can be read afterwards (printed too with --node-log)
+NODE_LOG = 'nodes.log'
 
 
 def stated_start_time(now: float) -> float:
@@ -155,10 +159,22 @@ def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0
     for node, values in (extra or {}).items():
         given.setdefault(node, []).extend(values)
     overrides = graph_overrides(trial.model, start, timing, given)
+    with open(directory / NODE_LOG, 'w', encoding='utf-8') as node_log_file:
+        def node_log(line: str) -> None:
+            try:
+                node_log_file.write(line + '\n')
+            except ValueError:  # a reader thread that outlived the graph's stop: file closed
+                pass
+            trial.node_log(line)
+        yield from _started_graph(trial, directory, bag, overrides, node_log)
+
+
+def _started_graph(trial: Trial, directory: Path, bag: Path, overrides: Dict[str, List[str]],
+                   node_log: Callable[[str], None]):
     for attempt in range(1, GRAPH_ATTEMPTS + 1):
         with GraphSession(trial.domain_id, bag_dir=bag if trial.record else None,
                           overrides=overrides, hold_at=HOLD_AT, pace_lead=PACE_LEAD,
-                          log=trial.node_log) as session:
+                          log=node_log) as session:
             try:
                 session.wait_until_ready()
                 session.resume_clock()
