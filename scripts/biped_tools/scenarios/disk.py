@@ -19,8 +19,8 @@ import numpy as np
 
 from biped_tools.graph_session import IDLE, stamp_seconds, STEPPING
 from biped_tools.scenarios.sweep import grid, largest_completing, run_name
-from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress, sample_at,
-                                         stated_start, stop_walking, SWEEP_LIMITS, Trial,
+from biped_tools.scenarios.trial import (base_result, drive, graph_for, HOLD_AT, Progress,
+                                         sample_at, stated_start, stop_walking, SWEEP_LIMITS, Trial,
                                          write_result)
 
 DISK_CENTRE = (0.0, 1.8)
@@ -41,6 +41,10 @@ STOP_LEAD_OF_LAP = 0.55
 PACE_MARGIN = 0.02  # s: a paced clock stops this far short of a step command's stated time
 END_AFTER_IDLE = 0.5  # s of sim time: the return is measured this long after the walk ended
 PLAN_WAIT = 10.0  # s of wall time a step's command waits for the plan extended at its start
+# s of sim time before the walk's start by which its plan must be in (the reference window is
+# 1.8 s): sent 1 s before the start, the plan entered the controller's preview at a
+# load-dependent time
+PLAN_BEFORE_START = 2.5
 RATE_WINDOW = 1.0  # s of COM samples before a step's start that give the sweep rate
 STEP_LENGTHS = grid(0.08, 0.25, 0.01)  # m, the paper's sweep
 
@@ -147,12 +151,14 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
         sim0 = session.sim_time()
         session.wait_for_command_listeners()
         walk0 = stated_start(session, trial)
-        session.spin_until(lambda: session.sim_time() >= walk0 - 1.0, 120.0)
-        # where the robot stands, read at a stated time (COM samples in stamp order)
+        # where the robot stands, read at a stated time once its COM sample is in (the clock
+        # can be ahead of the samples: the one before, read instead, turned the first steps
+        # 1e-7 rad apart between runs, and the disk at 0.24 m walked in some and fell in others)
         com = session.series.com
-        start = np.array((sample_at(com, walk0 - 1.0) or com[0])[1:3], dtype=float)
+        session.spin_until(lambda: com and com[-1][0] >= HOLD_AT - 1e-6, 120.0)
+        start = np.array((sample_at(com, HOLD_AT) or com[0])[1:3], dtype=float)
         lap = LapCounter(start)
-        state = {'step': None, 'since': 0.0, 'sent': True, 'read': 0}
+        state = {'step': 0, 'since': 0.0, 'sent': True, 'read': 0}
 
         def planned_pose(plans):
             """Where the plan ends (midpoint of its last two footsteps, last yaw): the new
@@ -176,11 +182,17 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
                 if sample[0] >= walk0:
                     lap.update(sample[1:3], sample[0])
 
+        # the first command starts the walk at walk0; the clock waits for its plan
+        plans_before = len(session.series.plans)
+        session.pace_limit = walk0 - PLAN_BEFORE_START
+        send_command([], walk0)
+        if not session.spin_until(lambda: len(session.series.plans) > plans_before, PLAN_WAIT):
+            trial.log(f'[{trial.label}] no plan for the walk after {PLAN_WAIT:.0f} s of wall '
+                      'time (this run may differ)')
+        session.pace_limit = None
+
         def on_time(t: float) -> bool:
             read_lap()
-            if state['step'] is None:      # the first command starts the walk at walk0
-                state['step'] = 0
-                send_command([], walk0)
             states = session.series.states
             if states and states[-1][2] != state['step'] and states[-1][1] in STEPPING:
                 state.update(step=states[-1][2], since=states[-1][0] - states[-1][6],
