@@ -93,3 +93,26 @@ def test_a_repeated_cell_is_its_median_run_and_a_run_without_a_push_does_not_cou
     assert cell['run'] == 3 and cell['largest_withstood_n'] == 110.0  # of 80, 110, 140, 170
     assert cell['repeats_withstood_n'] == [140.0, 80.0, None, 110.0, 170.0]
     assert median_run([runs[0]])['repeats_withstood_n'] == [140.0]
+
+
+def test_the_planned_landing_comes_from_the_plan_stamped_before_an_adjustment_that_overtook_it():
+    """Under load the plan that made the pushed step can reach the runner after the step's
+    adjustment (a CI run): its planned landing is then found by stamp, not reported as moved 0."""
+    from types import SimpleNamespace
+    from builtin_interfaces.msg import Time
+    from biped_msgs.msg import Footstep, FootstepPlan, StepAdjustment
+    from std_msgs.msg import Header
+    from biped_tools.scenarios.push_directions import adjustment_records
+
+    def plan(stamp, last_y):
+        steps = [Footstep(y=0.07 * (-1) ** k) for k in range(7)] + [Footstep(y=last_y)]
+        return FootstepPlan(header=Header(stamp=Time(sec=stamp)), plan_id=1, footsteps=steps)
+    extended, republished = plan(12, -0.07), plan(13, -0.097)
+    adjustment = StepAdjustment(header=Header(stamp=Time(sec=13)), plan_id=1, revision=1,
+                                step_index=5, footsteps=list(republished.footsteps))
+    for plans_before in (1, 0):  # the extension received before the adjustment, or after it
+        series = SimpleNamespace(adjustments=[adjustment], plans_before_adjustment=[plans_before],
+                                 plans=[extended, republished])
+        first = adjustment_records(series, 0.0)['steps'][0]
+        assert first['planned_landing'] == (0.0, -0.07)
+        assert first['landing'] == (0.0, -0.097)
