@@ -16,7 +16,6 @@ import threading
 import time
 from typing import Dict, List, Optional
 
-from biped_planner.node_support.node_runner import DUMP_STACKS_SIGNAL
 from biped_tools.paths import INSTALL
 
 
@@ -283,6 +282,8 @@ class NodeGraph:
             try:
                 process.wait(timeout=max(0.05, deadline - time.monotonic()))
             except subprocess.TimeoutExpired:
+                # imported here: node_runner brings rclpy, which this module loads only to use it
+                from biped_planner.node_support.node_runner import DUMP_STACKS_SIGNAL
                 self.log(f'[bringup] {name} ignored SIGINT for {grace} s: its stacks, then '
                          'SIGKILL')
                 process.send_signal(DUMP_STACKS_SIGNAL)
