@@ -96,6 +96,10 @@ class WalkingControllerParams:
         0.07, 'with the planned swing target: each swing foot follows its target through a '
         'first-order lag of this time constant, for a softer lift-off and landing (s); 0: off',
         low=0.0, high=1.0)
+    swing_attitude_gain: float = parameter(
+        0.3, 'a swing foot is placed for this fraction of the measured pelvis roll and pitch '
+        'instead of the commanded ones, so a tilting body does not hold it over the ground '
+        '(biped_mpc.swing_attitude); 0: off', low=0.0, high=1.0)
     dcm_gain: float = parameter(3.0, 'DCM feedback proportional gain k_p (1/s)', low=0.0,
                                 high=50.0)
     dcm_integral_gain: float = parameter(2.0, 'DCM feedback integral gain k_i (1/s^2)',

@@ -80,6 +80,7 @@ from biped_mpc.qp_backend import QpStatus
 from biped_mpc.reference_adapter import cycle_references, CycleReferences
 from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
+from biped_mpc.swing_attitude import attitude_correction, corrected_swing_target
 from biped_mpc.swing_smoothing import SwingSmoothing
 from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
@@ -161,6 +162,7 @@ class WalkingController:
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
         self._swing_start = SwingStart(params.swing_start_time_constant)
         self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
+        self._swinging = [False, False]
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
         self._com_height = lipm.com_height
@@ -382,6 +384,7 @@ class WalkingController:
                                for latch in self._stance.latched]
             support_next = SUPPORT_DOUBLE
         planned = self.params.swing_target == SWING_TARGET_PLANNED
+        self._swinging = [not held for held in self._stance.held(support_next)]
         targets = ik_targets(next_state, feet_next, support_next, self._stance,
                              self._model_hip, self.params.robot.pelvis_height, planned)
         if planned:
@@ -435,13 +438,17 @@ class WalkingController:
             trunk = targets.trunk_tilt
             pelvis_rotation = rotation_z(targets.yaw) @ rotation_x(trunk[0]) @ \
                 rotation_y(trunk[1]) @ posture_correction(rotation, self.params.tilt_gain)
-            left, right = targets.left_foot, targets.right_foot
             tilts = targets.foot_tilts
-            solution = self.ik.solve(
-                pelvis_command, pelvis_rotation, left[:3],
-                rotation_z(left[3]) @ rotation_x(tilts[0, 0]) @ rotation_y(tilts[0, 1]),
-                right[:3],
-                rotation_z(right[3]) @ rotation_x(tilts[1, 0]) @ rotation_y(tilts[1, 1]))
+            correction = attitude_correction(pelvis_rotation, rotation,
+                                             self.params.swing_attitude_gain)
+            soles = []
+            for side, foot in enumerate((targets.left_foot, targets.right_foot)):
+                sole = (foot[:3], rotation_z(foot[3]) @ rotation_x(tilts[side, 0])
+                        @ rotation_y(tilts[side, 1]))
+                if self._swinging[side]:
+                    sole = corrected_swing_target(*sole, pelvis_command, correction)
+                soles.extend(sole)
+            solution = self.ik.solve(pelvis_command, pelvis_rotation, *soles)
             q = np.array(solution.q, dtype=float)
             ik_status = tuple(int(s) for s in solution.status)
             if not np.all(np.isfinite(q)):
