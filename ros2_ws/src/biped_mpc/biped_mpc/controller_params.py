@@ -97,7 +97,7 @@ class WalkingControllerParams:
         'first-order lag of this time constant, for a softer lift-off and landing (s); 0: off',
         low=0.0, high=1.0)
     swing_attitude_gain: float = parameter(
-        0.3, 'a swing foot is placed for this fraction of the measured pelvis roll and pitch '
+        0.0, 'a swing foot is placed for this fraction of the measured pelvis roll and pitch '
         'instead of the commanded ones, so a tilting body does not hold it over the ground '
         '(biped_mpc.swing_attitude); 0: off', low=0.0, high=1.0)
     dcm_gain: float = parameter(3.0, 'DCM feedback proportional gain k_p (1/s)', low=0.0,

@@ -10,10 +10,8 @@ from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 
 # N for 100 ms towards the stance foot (270 deg, early in a right single support): the swing
-# foot may not cross it, so until the stance foot steps out only the ankle and the trunk act.
-# With the default swing attitude gain (0.3) the trunk swing walks 120 and 130 N, without it
-# both fall (110 N: both walk, 140 N: both fall); with the gain 0, 110 N told them apart.
-TOWARDS_STANCE_FORCE = 120.0
+# foot may not cross it, so until the stance foot steps out only the ankle and the trunk act
+TOWARDS_STANCE_FORCE = 110.0
 
 
 def trial(robot, **overrides):
