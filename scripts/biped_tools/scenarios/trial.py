@@ -5,6 +5,7 @@ import json
 import math
 from pathlib import Path
 import shutil
+import threading
 import time
 from typing import Callable, Dict, List, Optional
 
@@ -159,12 +160,16 @@ def graph_for(trial: Trial, timing: Optional[tuple] = None, start=(0.0, 0.0, 0.0
     for node, values in (extra or {}).items():
         given.setdefault(node, []).extend(values)
     overrides = graph_overrides(trial.model, start, timing, given)
+    # one reader thread per node process writes here; a text file is not thread-safe, and
+    # interleaved writes once left a multibyte character split (a test could not decode it)
+    lock = threading.Lock()
     with open(directory / NODE_LOG, 'w', encoding='utf-8') as node_log_file:
         def node_log(line: str) -> None:
-            try:
-                node_log_file.write(line + '\n')
-            except ValueError:  # a reader thread that outlived the graph's stop: file closed
-                pass
+            with lock:
+                try:
+                    node_log_file.write(line + '\n')
+                except ValueError:  # a reader thread that outlived the graph's stop: closed
+                    pass
             trial.node_log(line)
         yield from _started_graph(trial, directory, bag, overrides, node_log)
 
