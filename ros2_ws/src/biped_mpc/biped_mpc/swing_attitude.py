@@ -8,9 +8,8 @@ lands rotated by (1 + k) phi about the pelvis, and a robot rolling over its stan
 holds its swing foot 2-3 cm over the ground it should land on. The correction re-expresses the
 swing target so that, with the pelvis at the measured attitude, the sole reaches it.
 """
-import math
-
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from biped_planner.rotations import rotation_z, yaw_of_matrix
 
@@ -32,23 +31,9 @@ def attitude_correction(commanded: np.ndarray, measured: np.ndarray, gain: float
     heading = rotation_z(yaw_of_matrix(commanded))
     tilt_commanded = heading.T @ commanded
     tilt_measured = rotation_z(yaw_of_matrix(measured)).T @ measured
-    attitude = heading @ tilt_commanded @ _power(tilt_commanded.T @ tilt_measured, gain)
+    difference = Rotation.from_matrix(tilt_commanded.T @ tilt_measured).as_rotvec()
+    attitude = heading @ tilt_commanded @ Rotation.from_rotvec(gain * difference).as_matrix()
     return commanded @ attitude.T
-
-
-def _power(rotation: np.ndarray, fraction: float) -> np.ndarray:
-    """The rotation by fraction of the angle about the same axis (Rodrigues)."""
-    if fraction >= 1.0:
-        return rotation
-    angle = math.acos(min(max(0.5 * (np.trace(rotation) - 1.0), -1.0), 1.0))
-    if angle < 1e-12:
-        return np.eye(3)
-    axis = np.array([rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0],
-                     rotation[1, 0] - rotation[0, 1]]) / (2.0 * math.sin(angle))
-    skew = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]],
-                     [-axis[1], axis[0], 0.0]])
-    turn = fraction * angle
-    return np.eye(3) + math.sin(turn) * skew + (1.0 - math.cos(turn)) * skew @ skew
 
 
 def corrected_swing_target(position: np.ndarray, rotation: np.ndarray, pelvis: np.ndarray,
