@@ -55,6 +55,34 @@ def test_planned_landing_is_the_first_support_sample():
     assert planned_landing(window, RIGHT, 1.0, DT)[0] == pytest.approx(1.0 + DT)
 
 
+def walk_to_landing(loop, x_left, duration=0.8):
+    """The left foot swings (landing planned 0.1 m ahead at 0.4 s), is loaded with 300 N from
+    0.3 s on where x_left puts it; returns the warnings of every cycle."""
+    window = Window(landing=20)
+    air, load = sensor_wrench(0.0), sensor_wrench(300.0)
+    events = []
+    for k in range(int(round(duration / DT))):
+        t = k * DT
+        loop.sense(t, DT, np.array([air if t < 0.3 - 1e-9 else load, load]),
+                   flat_soles(x_left=x_left), window)
+        events += loop.take_events()
+    return events
+
+
+def test_a_loaded_foot_refused_by_the_distance_gate_is_reported_once(loop):
+    events = walk_to_landing(loop, x_left=0.0)  # 0.1 m from its landing: the gate refuses it
+    assert loop.contacts == (False, True)
+    assert len(events) == 1
+    assert events[0].startswith('left foot: 300 N on it 0.20 s after its planned landing')
+    assert '0.100 m from the landing planned at its lift-off' in events[0]
+
+
+def test_a_foot_landing_at_its_target_is_confirmed_and_not_reported(loop):
+    events = walk_to_landing(loop, x_left=0.1)
+    assert loop.contacts == (True, True)
+    assert events == []
+
+
 def test_the_sensor_wrench_becomes_the_ground_reaction_and_its_cop(loop):
     soles = flat_soles()
     wrenches = np.array([sensor_wrench(150.0, 0.03), sensor_wrench(150.0, -0.01)])

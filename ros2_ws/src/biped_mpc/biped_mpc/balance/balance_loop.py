@@ -17,6 +17,7 @@ The walking controller (biped_mpc.walking_controller) calls, every control perio
 
 The joint servos stay stiff: only the references move.
 """
+import collections
 from dataclasses import dataclass, replace
 import math
 from typing import Optional
@@ -151,6 +152,14 @@ class BalanceResult:
     landing_modes: tuple
 
 
+# A loaded foot refused by the detector's distance gate this long after its planned landing is
+# reported: the swing then never ends and the foot is never latched (docs/controller_notes.md,
+# "Touchdowns that are never confirmed"); a late landing of a normal step clears in a cycle or
+# two.
+UNCONFIRMED_REPORT_TIME = 0.2  # s
+_SIDE_NAMES = ('left', 'right')
+
+
 class _Swing:
     """One foot's planned swing: lift-off time, landing time and point (world)."""
 
@@ -160,6 +169,8 @@ class _Swing:
         self.landing_point = landing_point
         self.frozen: Optional[np.ndarray] = None  # where an early or late contact stopped it
         self.lifted = False  # the detector saw the foot leave the ground: contacts now count
+        self.refused_since: Optional[float] = None  # loaded but gated, after the landing time
+        self.reported = False
 
     def phase(self, t: float) -> float:
         duration = self.landing_time - self.start
@@ -215,6 +226,7 @@ class BalanceLoop:
         self._history = [[], []]  # last two measured sole positions, for the acceleration
         self._com_offset = np.zeros(2)
         self._last_t = None
+        self._events = collections.deque(maxlen=16)  # kept short when no one takes them
         if soles is not None:
             self._history = [[soles[side][0].copy()] for side in SIDES]
 
@@ -254,7 +266,9 @@ class BalanceLoop:
             if swing is not None:
                 phase = swing.phase(t)
                 distance = float(np.linalg.norm(soles[side][0][:2] - swing.landing_point[:2]))
-            self._detectors[side].update(t, wrenches[side].normal_force, phase, distance)
+            state = self._detectors[side].update(t, wrenches[side].normal_force, phase, distance)
+            if swing is not None:
+                self._watch_refusal(t, side, swing, state, distance)
         contacts = self.contacts
         for side in SIDES:
             if self._swings[side] is not None and not contacts[side]:
@@ -268,6 +282,29 @@ class BalanceLoop:
                               [soles[s][0] for s in touching], point,
                               min_force=self.params.ft.cop_min_force)[:2]
         return SensedFeet(tuple(wrenches), contacts, zmp)
+
+    def take_events(self) -> list:
+        """The warnings since the last call (a loaded foot whose touchdown stays unconfirmed)."""
+        events = list(self._events)
+        self._events.clear()
+        return events
+
+    def _watch_refusal(self, t: float, side: int, swing: '_Swing', state, distance) -> None:
+        """Report once per swing a loaded foot the distance gate keeps refusing after landing."""
+        if not (state.gated and t >= swing.landing_time):
+            swing.refused_since = None
+            return
+        if swing.refused_since is None:
+            swing.refused_since = t
+        if swing.reported or t - swing.refused_since < UNCONFIRMED_REPORT_TIME - 1e-9:
+            return
+        swing.reported = True
+        self._events.append(
+            f'{_SIDE_NAMES[side]} foot: {state.normal_force:.0f} N on it '
+            f'{t - swing.landing_time:.2f} s after its planned landing, but {distance:.3f} m from '
+            f'the landing planned at its lift-off (touchdown_gate_distance '
+            f'{self.params.touchdown.gate_distance:.3f} m): the touchdown is not confirmed and '
+            f'the foot is not latched')
 
     def _track_swings(self, t: float, dt: float, window, soles: tuple) -> None:
         """Start a swing when the plan lifts a foot; end it when the foot is down again."""

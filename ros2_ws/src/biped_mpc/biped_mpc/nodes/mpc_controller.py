@@ -403,6 +403,9 @@ class MpcControllerNode(Node):
             self._hold_joints(stamp, f'control cycle failed: {error}')
             return
         self._last_output = output
+        if self._controller.balance_loop is not None:
+            for event in self._controller.balance_loop.take_events():
+                self.get_logger().warning(event)
         command = JointState()
         command.header.stamp = stamp
         command.name = self._leg_names
