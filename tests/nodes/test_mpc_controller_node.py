@@ -223,6 +223,33 @@ def test_references_lost_mid_step_the_controller_finishes_the_step_and_stands(wa
     assert abs(pelvis.y) < 0.03
 
 
+def test_a_landing_moved_past_the_touchdown_gate_is_reported_in_the_log(walk_loop):
+    """A replan mid-swing moves the landing 8 cm ahead: the loaded foot is then farther than
+    touchdown_gate_distance from the landing planned at its lift-off, and the node says so."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.plan_adjustment import moved_landings, swing_step_at
+    from biped_planner.step_timing import StepTiming
+    from biped_planner.walking_reference import WalkingReference
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    params = ReferenceParams(com_height=0.497, foot_length=0.2, foot_width=0.1)
+    play_references(g, lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(
+        RIGHT, 0.0, -0.07), params, t, 90, 0.02), clock_time(g) + 0.5)
+    walk = WalkingReference(straight_footsteps(10, 0.1, 0.14), StepTiming(0.4, 0.2), params,
+                            t_start=clock_time(g))
+    t_replan = walk.t_start + 1.0 + 3 * 0.6 + 0.1  # early in the single support of step 3
+    play_references(g, lambda t: walk.sample(t, 90, 0.02), t_replan)
+    assert not g['rosout'].has('touchdown is not confirmed')
+    t_now = clock_time(g)
+    swing = swing_step_at(walk, t_now)
+    landings = moved_landings(walk.footsteps, swing.step + 2,
+                              (swing.landing.x + 0.08, swing.landing.y))
+    moved = walk.adjust_step(t_now, landings, swing.touchdown)
+    play_references(g, lambda t: moved.sample(t, 90, 0.02), swing.touchdown + 0.5)
+    side = 'left' if swing.landing.side == LEFT else 'right'
+    assert g['rosout'].has(f'{side} foot', 'touchdown is not confirmed'), g['rosout'].lines
+
+
 def test_bad_sensor_messages_are_refused_the_previous_kept_and_the_robot_stands(walk_loop):
     from geometry_msgs.msg import PointStamped, WrenchStamped
     g = walk_loop
