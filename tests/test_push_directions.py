@@ -110,7 +110,9 @@ def test_the_planned_landing_comes_from_the_plan_stamped_before_an_adjustment_th
     extended, republished = plan(12, -0.07), plan(13, -0.097)
     adjustment = StepAdjustment(header=Header(stamp=Time(sec=13)), plan_id=1, revision=1,
                                 step_index=5, footsteps=list(republished.footsteps))
-    for plans_before in (1, 0):  # the extension received before the adjustment, or after it
+    # the extension received before the adjustment, or after it; or the planner's republish of
+    # the adjustment received before the adjustment itself as well
+    for plans_before in (1, 0, 2):
         series = SimpleNamespace(adjustments=[adjustment], plans_before_adjustment=[plans_before],
                                  plans=[extended, republished])
         first = adjustment_records(series, 0.0)['steps'][0]

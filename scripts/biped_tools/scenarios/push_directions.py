@@ -89,16 +89,19 @@ def adjustment_records(series, sim0: float) -> dict:
     """What the step adjuster did, from step_adjustment and footstep_plan records: each
     adjustment's time (from sim0), step, landing and the landing the plan had before it (the
     plans received before the adjustment: a plan's stamp is the step it was made for, which can
-    be earlier than an adjustment it already holds; when the plan that made the step came after
-    the adjustment, as under load in a CI run, the newest plan stamped by then without the
-    adjusted landing); and whether the planner's last plan of the
+    be earlier than an adjustment it already holds; not a plan that holds the adjusted landing:
+    that is the planner's republish, which can come in before the adjustment; when the plan that
+    made the step came after the adjustment, as under load in a CI run, the newest plan stamped
+    by then without the adjusted landing); and whether the planner's last plan of the
     walk holds the last adjusted landing (the planner republished it)."""
     steps = []
     for msg, count in zip(series.adjustments, series.plans_before_adjustment):
         index = msg.step_index + 2
-        before = [p for p in series.plans[:count] if p.plan_id == msg.plan_id and
-                  len(p.footsteps) > index]
         landing = msg.footsteps[index]
+        # a plan that already holds the adjusted landing is the planner's republish of this
+        # adjustment, which can reach the runner before the adjustment itself
+        before = [p for p in series.plans[:count] if p.plan_id == msg.plan_id and
+                  len(p.footsteps) > index and p.footsteps[index] != landing]
         if not before:  # the plan that made this step came in after the adjustment: by stamp
             before = [p for p in series.plans if p.plan_id == msg.plan_id and
                       len(p.footsteps) > index and p.footsteps[index] != landing and
