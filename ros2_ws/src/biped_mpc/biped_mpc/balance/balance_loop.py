@@ -38,6 +38,7 @@ from biped_mpc.balance.vertical_drift import VerticalDriftParams
 from biped_mpc.balance.wrench_distribution import WrenchDistributionParams
 from biped_mpc.ik_targets import IkTargets
 from biped_mpc.stance_feet import on_support
+from biped_planner.footsteps import SIDE_NAMES
 from biped_planner.rotations import yaw_of_matrix
 from biped_planner.sides import SIDES
 
@@ -157,7 +158,6 @@ class BalanceResult:
 # "Touchdowns that are never confirmed"); a late landing of a normal step clears in a cycle or
 # two.
 UNCONFIRMED_REPORT_TIME = 0.2  # s
-_SIDE_NAMES = ('left', 'right')
 
 
 class _Swing:
@@ -300,7 +300,7 @@ class BalanceLoop:
             return
         swing.reported = True
         self._events.append(
-            f'{_SIDE_NAMES[side]} foot: {state.normal_force:.0f} N on it '
+            f'{SIDE_NAMES[side]} foot: {state.normal_force:.0f} N on it '
             f'{t - swing.landing_time:.2f} s after its planned landing, but {distance:.3f} m from '
             f'the landing planned at its lift-off (touchdown_gate_distance '
             f'{self.params.touchdown.gate_distance:.3f} m): the touchdown is not confirmed and '
