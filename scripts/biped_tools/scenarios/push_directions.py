@@ -87,27 +87,29 @@ def next_push_time(single_start: float, single_duration: float, support: str, ph
 
 def adjustment_records(series, sim0: float) -> dict:
     """What the step adjuster did, from step_adjustment and footstep_plan records: each
-    adjustment's time (from sim0), step, landing and the landing the plan had before it (the
-    plans received before the adjustment: a plan's stamp is the step it was made for, which can
-    be earlier than an adjustment it already holds; not a plan that holds the adjusted landing:
-    that is the planner's republish, which can come in before the adjustment; when the plan that
-    made the step came after the adjustment, as under load in a CI run, the newest plan stamped
-    by then without the adjusted landing); and whether the planner's last plan of the
-    walk holds the last adjusted landing (the planner republished it)."""
+    adjustment's time (from sim0), step, landing and the landing the plan had before it, and
+    whether the planner's last plan of the walk holds the last adjusted landing (the planner
+    republished it).
+
+    The plan before an adjustment is the newest of its plans received before it (a plan's stamp
+    is the step it was made for, which can be earlier than an adjustment it already holds) or,
+    when the plan that made the step came in after the adjustment (under load in a CI run), the
+    newest stamped by then; never one that holds the adjusted landing: that is the planner's
+    republish, which can also come in before the adjustment."""
     steps = []
     for msg, count in zip(series.adjustments, series.plans_before_adjustment):
         index = msg.step_index + 2
         landing = msg.footsteps[index]
-        # a plan that already holds the adjusted landing is the planner's republish of this
-        # adjustment, which can reach the runner before the adjustment itself
-        before = [p for p in series.plans[:count] if p.plan_id == msg.plan_id and
-                  len(p.footsteps) > index and p.footsteps[index] != landing]
-        if not before:  # the plan that made this step came in after the adjustment: by stamp
-            before = [p for p in series.plans if p.plan_id == msg.plan_id and
-                      len(p.footsteps) > index and p.footsteps[index] != landing and
-                      stamp_seconds(p.header.stamp) <= stamp_seconds(msg.header.stamp) + 1e-9]
+
+        def without_the_adjustment(plan) -> bool:
+            return plan.plan_id == msg.plan_id and len(plan.footsteps) > index and \
+                plan.footsteps[index] != landing
+        stamp = stamp_seconds(msg.header.stamp)
+        before = [p for p in series.plans[:count] if without_the_adjustment(p)] or \
+            [p for p in series.plans if without_the_adjustment(p) and
+             stamp_seconds(p.header.stamp) <= stamp + 1e-9]
         planned = before[-1].footsteps[index] if before else landing
-        steps.append({'at_s': round(stamp_seconds(msg.header.stamp) - sim0, 3),
+        steps.append({'at_s': round(stamp - sim0, 3),
                       'step': msg.step_index, 'revision': msg.revision,
                       'landing': (round(landing.x, 4), round(landing.y, 4)),
                       'planned_landing': (round(planned.x, 4), round(planned.y, 4)),
