@@ -143,6 +143,8 @@ class ControllerOutput:
         torques in the sole frames (N m)
     :param foot_contacts: (left, right) contact states of the touchdown detectors
     :param ankle_offsets: (2, 2) roll and pitch offsets of the sole targets, foot damping (rad)
+    :param ankle_conformance: (2, 2) roll and pitch offsets of the sole targets for the
+        ground's tilt, ground conformance (rad)
     :param vertical_offsets: (2,) height offsets of the sole targets: force difference and
         vertical drift (m)
     :param landing_modes: (left, right) swing_landing modes ('swinging', 'seeking', 'landed',
@@ -178,6 +180,7 @@ class ControllerOutput:
     foot_torque_errors: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
     foot_contacts: tuple = (False, False)
     ankle_offsets: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+    ankle_conformance: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
     vertical_offsets: np.ndarray = field(default_factory=lambda: np.zeros(2))
     landing_modes: tuple = ('support', 'support')
     trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))

@@ -157,6 +157,16 @@ class WalkingControllerParams:
                                                  high=0.6)
     ankle_spring_time_constant: float = parameter(1.0, 'weak spring of the ankle offsets back to '
                                                   'nominal (s)', low=0.01, high=1000.0)
+    ground_conformance: bool = parameter(
+        True, 'in single support the loaded sole\'s tilt beyond a deadband becomes its '
+        'target\'s tilt, so the ankle takes the ground\'s tilt and the body stays upright on a '
+        'tile edge (biped_mpc.balance.ground_conformance)')
+    ground_conformance_deadband: float = parameter(
+        0.035, 'sole tilt the ground conformance leaves alone (rad)', low=0.0, high=0.5)
+    ground_conformance_time_constant: float = parameter(
+        0.04, 'lag of the ground conformance (s)', low=0.001, high=10.0)
+    ground_conformance_angle_limit: float = parameter(
+        0.3, 'largest ground conformance offset per axis (rad)', low=0.0, high=0.6)
     force_difference_gain: float = parameter(1e-4, 'foot force difference admittance '
                                              '(m/(N s))', low=0.0, high=0.01)
     force_difference_leak_rate: float = parameter(0.1, 'leak of the feet height difference '

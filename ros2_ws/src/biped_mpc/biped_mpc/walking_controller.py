@@ -474,6 +474,7 @@ class WalkingController:
                          foot_torque_errors=diagnostics.torque_errors.copy(),
                          foot_contacts=tuple(sensed.contacts),
                          ankle_offsets=balance.stabilizer.ankle_offsets.copy(),
+                         ankle_conformance=balance.conformance.copy(),
                          vertical_offsets=balance.stabilizer.vertical_offsets.copy(),
                          landing_modes=balance.landing_modes,
                          trunk_tilt=targets.trunk_tilt.copy())

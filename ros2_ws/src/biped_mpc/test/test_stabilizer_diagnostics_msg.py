@@ -12,12 +12,14 @@ def test_every_stabilizer_term_is_copied_into_the_message():
         zmp_desired=np.array([0.01, -0.02]), zmp_error=np.array([0.0, 0.003]),
         dcm_error=np.array([0.004, -0.05]), foot_torque_errors=np.arange(4.0).reshape(2, 2),
         foot_contacts=(False, True), ankle_offsets=np.full((2, 2), 0.01),
+        ankle_conformance=np.array([[0.0, 0.05], [-0.02, 0.0]]),
         vertical_offsets=np.array([0.001, -0.001]), landing_modes=('swinging', 'support'),
         trunk_tilt=np.array([0.12, -0.03]))
     diag = ControllerDiagnostics()
     stabilizer_terms(diag, output)
     assert list(diag.trunk_tilt) == [0.12, -0.03]
     assert list(diag.dcm_error) == [0.004, -0.05]
+    assert list(diag.ankle_conformance) == [0.0, 0.05, -0.02, 0.0]
     assert list(diag.foot_torque_errors) == [0.0, 1.0, 2.0, 3.0]
     assert list(diag.foot_contacts) == [False, True]
     assert list(diag.landing_modes) == ['swinging', 'support']

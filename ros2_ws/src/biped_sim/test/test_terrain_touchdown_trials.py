@@ -9,7 +9,9 @@ backend and failed on a fresh one (docs/simulator_notes.md): the landing works s
 but the walk after it is marginal. The hip strategy is off: with it, the late touchdown is
 walked through without the contact-aware landing too, and the landing is what is tested here.
 So is the swing lag (swing_smoothing_time_constant, 0.07 s by default): with it the late
-touchdown is walked through without the landing as well (one run, 2026-12-04).
+touchdown is walked through without the landing as well (one run, 2026-12-04), and so is the
+ground conformance (with it the late touchdown is walked through without the landing too,
+2026-12-05).
 """
 import pytest
 
@@ -21,7 +23,7 @@ def walk(sim, robot, terrain, contact_aware_landing):
     controller = WalkingController(WalkingControllerParams(
         robot=robot.controller_model, balance='stabilizer', swing_target='planned',
         contact_aware_landing=contact_aware_landing, hip_strategy_gain=0.0,
-        swing_smoothing_time_constant=0.0))
+        swing_smoothing_time_constant=0.0, ground_conformance=False))
     modes = []
 
     def on_cycle(t, window, output, readings):

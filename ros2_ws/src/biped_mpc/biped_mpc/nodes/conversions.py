@@ -70,6 +70,7 @@ def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
     diag.foot_torque_errors = floats(output.foot_torque_errors)
     diag.foot_contacts = [bool(c) for c in output.foot_contacts]
     diag.ankle_offsets = floats(output.ankle_offsets)
+    diag.ankle_conformance = floats(output.ankle_conformance)
     diag.vertical_offsets = floats(output.vertical_offsets)
     diag.landing_modes = [str(m) for m in output.landing_modes]
     diag.trunk_tilt = floats(output.trunk_tilt)
