@@ -5,10 +5,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from biped_mpc.balance.ground_conformance import (GroundConformance, GroundConformanceParams,
-                                                  sole_tilt)
+from biped_mpc.balance.ground_conformance import GroundConformance, GroundConformanceParams
 from biped_mpc.errors import ConfigError, InputError
-from biped_planner.rotations import rotation_x, rotation_y, rotation_z
+from biped_planner.rotations import roll_pitch_of_zxy_matrix, rotation_x, rotation_y, rotation_z
 
 FLAT = np.eye(3)
 
@@ -22,9 +21,9 @@ def tilted(roll: float, pitch: float, yaw: float = 0.0) -> np.ndarray:
 def test_the_tilt_is_the_roll_and_pitch_of_the_iks_composition_whatever_the_yaw(roll, pitch,
                                                                                  yaw):
     rotation = tilted(roll, pitch, yaw)
-    assert sole_tilt(rotation) == pytest.approx([roll, pitch], abs=1e-12)
+    assert roll_pitch_of_zxy_matrix(rotation) == pytest.approx([roll, pitch], abs=1e-12)
     # scipy's intrinsic z-x-y angles of the same rotation, an independent decomposition
-    assert sole_tilt(rotation) == pytest.approx(
+    assert roll_pitch_of_zxy_matrix(rotation) == pytest.approx(
         Rotation.from_matrix(rotation).as_euler('ZXY')[1:], abs=1e-12)
 
 

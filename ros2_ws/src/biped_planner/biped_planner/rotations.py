@@ -41,6 +41,13 @@ def roll_pitch_of_matrix(rotation: np.ndarray) -> tuple:
             math.atan2(-rotation[2, 0], math.hypot(rotation[2, 1], rotation[2, 2])))
 
 
+def roll_pitch_of_zxy_matrix(rotation: np.ndarray) -> np.ndarray:
+    """(2,) roll and pitch (rad) of R = Rz(yaw) Rx(roll) Ry(pitch), the order in which the leg
+    IK composes its sole targets (roll_pitch_of_matrix is the Z-Y-X order); yaw does not enter."""
+    return np.array([math.asin(max(-1.0, min(1.0, float(rotation[2, 1])))),
+                     math.atan2(-float(rotation[2, 0]), float(rotation[2, 2]))])
+
+
 def quaternion_from_yaw(yaw: float) -> np.ndarray:
     """(4,) quaternion (x, y, z, w) of a rotation by yaw about z."""
     return np.array([0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)])

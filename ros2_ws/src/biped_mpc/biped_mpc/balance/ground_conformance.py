@@ -18,6 +18,7 @@ import numpy as np
 from biped_mpc.errors import ConfigError
 from biped_mpc.validation import check_period
 from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.rotations import roll_pitch_of_zxy_matrix
 from biped_planner.sides import SIDES
 
 
@@ -33,13 +34,6 @@ class GroundConformanceParams:
 
     def __post_init__(self) -> None:
         validate_fields(self, ConfigError)
-
-
-def sole_tilt(rotation: np.ndarray) -> np.ndarray:
-    """Roll and pitch (2,) (rad) of a sole rotation R = Rz(yaw) Rx(roll) Ry(pitch), the order
-    in which the IK composes its sole targets; the yaw does not enter."""
-    return np.array([math.asin(max(-1.0, min(1.0, float(rotation[2, 1])))),
-                     math.atan2(-float(rotation[2, 0]), float(rotation[2, 2]))])
 
 
 class GroundConformance:
@@ -72,7 +66,7 @@ class GroundConformance:
         for side in SIDES:
             goal = np.zeros(2)
             if loaded[side]:
-                tilt = sole_tilt(np.asarray(sole_rotations[side], dtype=float))
+                tilt = roll_pitch_of_zxy_matrix(np.asarray(sole_rotations[side], dtype=float))
                 goal = np.sign(tilt) * np.maximum(np.abs(tilt) - p.deadband, 0.0)
             goal = np.clip(goal, -p.angle_limit, p.angle_limit)
             self.offsets[side] += blend * (goal - self.offsets[side])
