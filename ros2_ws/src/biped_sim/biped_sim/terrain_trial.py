@@ -95,6 +95,24 @@ def lane_step_terrain(step: float, base: float = 0.0, edge: float = 0.105) -> Te
     return Terrain(params, heights)
 
 
+
+def step_down_terrain(height: float, edge: float, behind: float = 0.5) -> Terrain:
+    """A platform of height under the robot's start that ends at x = edge: the walk steps down
+    to the ground plane there, as at the far side of the paper's tiles.
+
+    :param height: height of the platform (m), > 0
+    :param edge: x of its far edge (m), > -behind
+    :param behind: how far the platform reaches behind the start (m); it is as wide as long
+    :return: the terrain (one tile)
+    """
+    side = edge + behind
+    if not (height > 0.0 and side > 0.0):
+        raise ValueError(f'need a height > 0 and an edge past {-behind} m, got {height!r}, '
+                         f'{edge!r}')
+    params = TerrainParams(tile_area=side ** 2, side_length=side, min_height=height,
+                           max_height=height, origin=(-behind, -0.5 * side))
+    return Terrain(params, np.full((1, 1), float(height)))
+
 # The paper's tiled area as the graph's terrain scenario lays it out (scripts/biped_tools/
 # scenarios/terrain.py uses these): the same seed gives the same tiles in both. With a 3 m side
 # the library walked other tiles than the graph (100 cm^2 seed 2 stood there and fell in both
