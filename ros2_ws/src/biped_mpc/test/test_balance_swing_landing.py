@@ -108,6 +108,39 @@ def test_a_seeking_target_stays_within_max_lead_of_a_foot_the_ground_holds():
     assert target == pytest.approx(-0.15 * 19 * DT)
 
 
+
+def test_the_descent_starts_from_a_lagging_target_without_a_jump():
+    # The planned target reaches the controller through a lag: 6 mm above the landing height
+    # at the planned landing time, closing at 0.1 m/s. The seeking target moves down by at most
+    # max(v dt, the plan's own step) per cycle, and runs below the lagging plan at v.
+    speed = 0.3
+    landing = SwingLanding(SwingLandingParams(descent_speed=speed))
+    landing.reset(LANDING_TIME, 0.0)
+
+    def lagging(t):
+        return max(0.006 - 0.1 * (t - LANDING_TIME), 0.0) if t >= LANDING_TIME else 0.006
+
+    heights = []
+    for k in range(-4, 30):
+        t = LANDING_TIME + k * DT
+        heights.append(landing.update(t, lagging(t), False, heights[-1] if heights else 0.006)
+                       .height)
+    steps = -np.diff(heights)
+    assert heights[4] == pytest.approx(0.006 - speed * DT)  # the first seeking cycle
+    assert steps.max() <= speed * DT + 1e-12
+    assert heights[-1] == pytest.approx(0.006 - speed * 30 * DT)
+
+
+def test_a_touching_sole_holds_the_seeking_target():
+    landing = SwingLanding(SwingLandingParams(descent_speed=0.3))
+    landing.reset(LANDING_TIME, 0.0)
+    height = landing.update(LANDING_TIME, 0.0, False, 0.0).height
+    for k in range(1, 6):  # force seen, the detector not confirmed yet
+        result = landing.update(LANDING_TIME + k * DT, 0.0, False, height, touching=True)
+        assert result.mode == SEEKING and result.height == height
+    released = landing.update(LANDING_TIME + 6 * DT, 0.0, False, height)
+    assert released.height == pytest.approx(height - 0.3 * DT)
+
 def test_contact_on_time_raises_no_event():
     landing = SwingLanding()
     landing.reset(LANDING_TIME, 0.0)

@@ -180,7 +180,6 @@ class _Swing:
         self.start = start
         self.landing_time = landing_time
         self.landing_point = landing_point
-        self.frozen: Optional[np.ndarray] = None  # where an early or late contact stopped it
         self.lifted = False  # the detector saw the foot leave the ground: contacts now count
         self.refused_since: Optional[float] = None  # loaded but gated, after the landing time
         self.reported = False
@@ -374,7 +373,7 @@ class BalanceLoop:
         for side in SIDES:
             feet[side][2] += output.vertical_offsets[side]
             if self._active[side] and self.params.contact_aware_landing:
-                modes[side] = self._land(t, side, feet[side], sensed, soles)
+                modes[side] = self._land(t, dt, side, feet[side], sensed, soles)
         pelvis_target = targets.pelvis.copy()
         pelvis_target[:2] += self._admittance(dt, sensed.zmp, output.zmp)
         # In single support only: on two feet an excess comes from soles resting on tile edges,
@@ -396,20 +395,19 @@ class BalanceLoop:
                                output.ankle_offsets + conformance, trunk)
         return BalanceResult(stabilized, output, tuple(modes), conformance)
 
-    def _land(self, t: float, side: int, foot: np.ndarray, sensed: SensedFeet,
+    def _land(self, t: float, dt: float, side: int, foot: np.ndarray, sensed: SensedFeet,
               soles: tuple) -> str:
         """Contact-aware end of a swing on the foot target (in place); returns the mode."""
         swing = self._swings[side]
+        touching = swing.lifted and (sensed.wrenches[side].normal_force
+                                     > self.params.touchdown.off_force)
         landing = self._landings[side].update(t, float(foot[2]),
                                               sensed.contacts[side] and swing.lifted,
-                                              float(soles[side][0][2]))
-        if landing.mode == LANDED:
-            # Stop where the target was when the ground was met (a jump to the measured sole
-            # would carry the servo lag into the target), at the height of the contact.
-            if swing.frozen is None:
-                swing.frozen = np.array([foot[0], foot[1], landing.height])
-            foot[:3] = swing.frozen
-        elif landing.mode in (SEEKING, FAILED):
+                                              float(soles[side][0][2]), touching, dt)
+        if landing.mode in (LANDED, SEEKING, FAILED):
+            # The height only: across the plan the foot goes on to its footstep as without
+            # the landing logic (a landed foot frozen where its lagging target was stood 1-3
+            # cm short of it and slid back).
             foot[2] = landing.height
         return landing.mode
 

@@ -89,16 +89,20 @@ class SwingLanding:
     Before the planned landing time t_L the target is the planned swing height. A touchdown
     (touchdown_detector) freezes the target at the sole's measured height, where it met the
     ground: before t_L that is an early contact on raised ground, event 'shrink'. Without
-    contact at t_L the target keeps descending below the planned landing height h_L at the
-    bounded speed v (IHMC 0.12-0.3 m/s), h(t) = h_L - min(v (t - t_L), d_max), event 'stretch';
+    contact at t_L the target keeps descending at the bounded speed v (IHMC 0.12-0.3 m/s) from
+    where it is, h_k = min(h_planned, h_(k-1) - v dt), down to h_L - d_max, event 'stretch';
     a touchdown then freezes it (event 'resume'); reaching d_max without one is a failure
-    (event 'missed') and the target stays there. While seeking, the target stays at most
-    max_lead below the measured sole, h(t) >= z_measured - max_lead: a free foot follows the
-    descent (its servo lag is below max_lead at that speed), a foot the ground already holds is
-    pressed by max_lead only while the detector's filter and dwell confirm the contact (without
-    that bound, on flat ground every landing was seen 1-3 cycles late and the stiff leg pushed
-    the robot up by the depth run in that time). A contact on the first update at or after t_L,
-    before a 'stretch' was raised, is on time: no event. Call reset at each lift-off.
+    (event 'missed') and the target stays there. The descent starts from the planned target
+    of the moment, not from h_L: the planned swing reaches the controller through a lag and
+    is still millimetres above h_L at t_L, and a target jumping to h_L there hit flat ground
+    in one cycle. While seeking, the target stays at most max_lead below the measured sole,
+    h(t) >= z_measured - max_lead, and it holds while the sole is touching (a normal force
+    seen before the detector confirms it): a free foot follows the descent, a foot the
+    ground already holds is not pushed further into it while the detector's filter and dwell
+    confirm the contact (without those bounds, on flat ground every landing was seen 1-3
+    cycles late and the stiff leg pushed the robot up by the depth run in that time). A
+    contact on the first update at or after t_L, before a 'stretch' was raised, is on time:
+    no event. Call reset at each lift-off.
     """
 
     def __init__(self, params: SwingLandingParams = SwingLandingParams()) -> None:
@@ -124,15 +128,20 @@ class SwingLanding:
         self._mode = SWINGING
         self._height = float(landing_height)
         self._stretched = False
+        self._last_t = -math.inf
 
     def update(self, t: float, planned_height: float, in_contact: bool,
-               measured_height: float) -> SwingLandingResult:
+               measured_height: float, touching: bool = False,
+               dt: float = 0.0) -> SwingLandingResult:
         """One control cycle.
 
         :param t: time (s)
         :param planned_height: the swing trajectory's sole height at t (m)
         :param in_contact: the touchdown detector's state of this foot
         :param measured_height: the sole's measured height (m)
+        :param touching: a normal force on the sole that the detector has not confirmed yet:
+            the seeking target holds
+        :param dt: time since the last update (s); 0 takes it from the last update's t
         :return: the height target and the timing event, if any
         :raises InputError: for a non-finite input
         """
@@ -140,6 +149,9 @@ class SwingLanding:
                             ('measured_height', measured_height)):
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 raise InputError(f'{name} must be a finite number, got {value!r}')
+        step = float(dt) if dt > 0.0 else (
+            max(t - self._last_t, 0.0) if math.isfinite(self._last_t) else 0.0)
+        self._last_t = float(t)
         event = None
         if self._mode in (LANDED, FAILED):
             pass
@@ -153,17 +165,18 @@ class SwingLanding:
             self._height = float(planned_height)
         else:
             p = self.params
-            depth = p.descent_speed * (t - self._landing_time)
+            deepest = self._landing_height - p.max_extra_depth
+            descended = self._height if touching else min(
+                float(planned_height), self._height - p.descent_speed * step)
             self._mode = SEEKING
-            if depth >= p.max_extra_depth:
-                depth = p.max_extra_depth
+            if descended <= deepest:
+                descended = deepest
                 self._mode = FAILED
-                event = SupportTimingEvent(MISSED, self._landing_time
-                                           + p.max_extra_depth / p.descent_speed)
+                event = SupportTimingEvent(MISSED, float(t))
             elif not self._stretched:
                 event = SupportTimingEvent(STRETCH, self._landing_time)
             self._stretched = True
-            self._height = max(self._landing_height - depth,
+            self._height = max(descended,
                                min(float(measured_height) - p.max_lead, self._height))
         extra = max(self._landing_height - self._height, 0.0) if self._mode != SWINGING else 0.0
         return SwingLandingResult(self._height, self._mode, event, extra,
