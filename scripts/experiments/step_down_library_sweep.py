@@ -22,20 +22,10 @@ from biped_mpc.walking_controller import WalkingController, WalkingControllerPar
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import run_trial, step_down_terrain
+from terrain_library_sweep import parse_override  # same folder: run as a script
 
 # m past the edge the centre of mass must reach, standing at the end, for a walk through
 WALKED_PAST = 0.2
-
-
-def _parse_override(text: str) -> tuple:
-    name, value = text.split('=', 1)
-    lowered = value.lower()
-    if lowered in ('true', 'false'):
-        return name, lowered == 'true'
-    try:
-        return name, float(value)
-    except ValueError:
-        return name, value
 
 
 def main() -> None:
@@ -49,7 +39,7 @@ def main() -> None:
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
     args = parser.parse_args()
-    overrides = dict(_parse_override(text) for text in args.set)
+    overrides = dict(parse_override(text) for text in args.set)
     first, last, step = args.edges
     edges = np.round(np.arange(first, last + 0.5 * step, step), 4)
     robot = coman_like()

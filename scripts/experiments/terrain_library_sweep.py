@@ -22,7 +22,7 @@ from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import edge_terrain, paper_terrain, run_trial
 
 
-def _parse_override(text: str) -> tuple:
+def parse_override(text: str) -> tuple:
     name, _, value = text.partition('=')
     if value.lower() in ('true', 'false'):
         return name, value.lower() == 'true'
@@ -53,8 +53,8 @@ def main() -> None:
                         help='PyBulletConfig fields to override (e.g. the rubber soles, '
                         'sole_contact_stiffness=1e5)')
     args = parser.parse_args()
-    overrides = dict(_parse_override(text) for text in args.set)
-    sim_overrides = dict(_parse_override(text) for text in args.sim)
+    overrides = dict(parse_override(text) for text in args.set)
+    sim_overrides = dict(parse_override(text) for text in args.sim)
     robot = coman_like()
     trials = [] if args.no_flat else [('flat', None, args.steps)]
     trials += [] if args.no_edge else [('edge 25 mm', edge_terrain(0.025), 0)]
