@@ -34,7 +34,7 @@ def walk(landing, ground, duration=1.0, stiffness=2e4):
         measured = max(target, ground)
         state = detector.update(t, stiffness * max(ground - target, 0.0), min(t / LANDING_TIME,
                                                                                  1.0))
-        result = landing.update(t, planned_height(t), state.in_contact, measured)
+        result = landing.update(t, DT, planned_height(t), state.in_contact, measured)
         target = result.height
         log.append((t, result))
     return log
@@ -93,7 +93,7 @@ def test_a_seeking_target_stays_within_max_lead_of_a_foot_the_ground_holds():
     ground, target, heights = -0.005, 0.0, []
     for k in range(int(round(0.3 / DT))):
         t = LANDING_TIME + k * DT
-        result = landing.update(t, 0.0, False, max(target, ground))
+        result = landing.update(t, DT, 0.0, False, max(target, ground))
         target = result.height
         heights.append(target)
     heights = np.array(heights)
@@ -104,8 +104,8 @@ def test_a_seeking_target_stays_within_max_lead_of_a_foot_the_ground_holds():
     free.reset(LANDING_TIME, 0.0)
     target = 0.0
     for k in range(20):
-        target = free.update(LANDING_TIME + k * DT, 0.0, False, target).height
-    assert target == pytest.approx(-0.15 * 19 * DT)
+        target = free.update(LANDING_TIME + k * DT, DT, 0.0, False, target).height
+    assert target == pytest.approx(-0.15 * 20 * DT)  # v dt per update, the first one too
 
 
 
@@ -123,8 +123,8 @@ def test_the_descent_starts_from_a_lagging_target_without_a_jump():
     heights = []
     for k in range(-4, 30):
         t = LANDING_TIME + k * DT
-        heights.append(landing.update(t, lagging(t), False, heights[-1] if heights else 0.006)
-                       .height)
+        heights.append(landing.update(t, DT, lagging(t), False,
+                                      heights[-1] if heights else 0.006).height)
     steps = -np.diff(heights)
     assert heights[4] == pytest.approx(0.006 - speed * DT)  # the first seeking cycle
     assert steps.max() <= speed * DT + 1e-12
@@ -134,18 +134,18 @@ def test_the_descent_starts_from_a_lagging_target_without_a_jump():
 def test_a_touching_sole_holds_the_seeking_target():
     landing = SwingLanding(SwingLandingParams(descent_speed=0.3))
     landing.reset(LANDING_TIME, 0.0)
-    height = landing.update(LANDING_TIME, 0.0, False, 0.0).height
+    height = landing.update(LANDING_TIME, DT, 0.0, False, 0.0).height
     for k in range(1, 6):  # force seen, the detector not confirmed yet
-        result = landing.update(LANDING_TIME + k * DT, 0.0, False, height, touching=True)
+        result = landing.update(LANDING_TIME + k * DT, DT, 0.0, False, height, touching=True)
         assert result.mode == SEEKING and result.height == height
-    released = landing.update(LANDING_TIME + 6 * DT, 0.0, False, height)
+    released = landing.update(LANDING_TIME + 6 * DT, DT, 0.0, False, height)
     assert released.height == pytest.approx(height - 0.3 * DT)
 
 def test_contact_on_time_raises_no_event():
     landing = SwingLanding()
     landing.reset(LANDING_TIME, 0.0)
-    assert landing.update(0.3, 0.01, False, 0.01).mode == SWINGING
-    result = landing.update(LANDING_TIME, 0.0, True, 0.0)
+    assert landing.update(0.3, DT, 0.01, False, 0.01).mode == SWINGING
+    result = landing.update(LANDING_TIME, DT, 0.0, True, 0.0)
     assert result.event is None and result.mode == LANDED
 
 
@@ -159,6 +159,8 @@ def test_bad_values_are_refused():
     with pytest.raises(InputError):
         SupportTimingEvent('late', 0.0)
     with pytest.raises(InputError):
-        SwingLanding().update(0.0, math.nan, False, 0.0)
+        SwingLanding().update(0.0, DT, math.nan, False, 0.0)
+    with pytest.raises(InputError, match='dt'):
+        SwingLanding().update(0.0, 0.0, 0.0, False, 0.0)
     with pytest.raises(InputError):
         SwingLanding().reset(math.nan, 0.0)

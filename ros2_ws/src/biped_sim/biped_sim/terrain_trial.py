@@ -21,6 +21,7 @@ from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
 
 from biped_sim.closed_loop import ClosedLoopRunner
+from biped_sim.errors import ConfigError
 from biped_sim.terrain import generate_terrain, Terrain, TerrainParams
 
 TIMING = StepTiming(single_support=0.4, double_support=0.2)
@@ -107,8 +108,8 @@ def step_down_terrain(height: float, edge: float, behind: float = 0.5) -> Terrai
     """
     side = edge + behind
     if not (height > 0.0 and side > 0.0):
-        raise ValueError(f'need a height > 0 and an edge past {-behind} m, got {height!r}, '
-                         f'{edge!r}')
+        raise ConfigError(f'need a height > 0 and an edge past {-behind} m, got {height!r}, '
+                          f'{edge!r}')
     params = TerrainParams(tile_area=side ** 2, side_length=side, min_height=height,
                            max_height=height, origin=(-behind, -0.5 * side))
     return Terrain(params, np.full((1, 1), float(height)))

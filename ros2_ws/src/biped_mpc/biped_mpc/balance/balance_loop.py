@@ -401,9 +401,9 @@ class BalanceLoop:
         swing = self._swings[side]
         touching = swing.lifted and (sensed.wrenches[side].normal_force
                                      > self.params.touchdown.off_force)
-        landing = self._landings[side].update(t, float(foot[2]),
+        landing = self._landings[side].update(t, dt, float(foot[2]),
                                               sensed.contacts[side] and swing.lifted,
-                                              float(soles[side][0][2]), touching, dt)
+                                              float(soles[side][0][2]), touching)
         if landing.mode in (LANDED, SEEKING, FAILED):
             # The height only: across the plan the foot goes on to its footstep as without
             # the landing logic (a landed foot frozen where its lagging target was stood 1-3

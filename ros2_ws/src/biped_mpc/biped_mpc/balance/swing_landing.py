@@ -4,6 +4,7 @@ import math
 from typing import Optional
 
 from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.validation import check_period
 from biped_planner.parameter_fields import parameter, validate_fields
 
 # SupportTimingEvent kinds.
@@ -128,30 +129,26 @@ class SwingLanding:
         self._mode = SWINGING
         self._height = float(landing_height)
         self._stretched = False
-        self._last_t = -math.inf
 
-    def update(self, t: float, planned_height: float, in_contact: bool,
-               measured_height: float, touching: bool = False,
-               dt: float = 0.0) -> SwingLandingResult:
+    def update(self, t: float, dt: float, planned_height: float, in_contact: bool,
+               measured_height: float, touching: bool = False) -> SwingLandingResult:
         """One control cycle.
 
         :param t: time (s)
+        :param dt: control period (s), > 0: the seeking target descends by descent_speed dt
         :param planned_height: the swing trajectory's sole height at t (m)
         :param in_contact: the touchdown detector's state of this foot
         :param measured_height: the sole's measured height (m)
         :param touching: a normal force on the sole that the detector has not confirmed yet:
             the seeking target holds
-        :param dt: time since the last update (s); 0 takes it from the last update's t
         :return: the height target and the timing event, if any
-        :raises InputError: for a non-finite input
+        :raises InputError: for a non-finite input or dt <= 0
         """
+        check_period(dt)
         for name, value in (('t', t), ('planned_height', planned_height),
                             ('measured_height', measured_height)):
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 raise InputError(f'{name} must be a finite number, got {value!r}')
-        step = float(dt) if dt > 0.0 else (
-            max(t - self._last_t, 0.0) if math.isfinite(self._last_t) else 0.0)
-        self._last_t = float(t)
         event = None
         if self._mode in (LANDED, FAILED):
             pass
@@ -167,7 +164,7 @@ class SwingLanding:
             p = self.params
             deepest = self._landing_height - p.max_extra_depth
             descended = self._height if touching else min(
-                float(planned_height), self._height - p.descent_speed * step)
+                float(planned_height), self._height - p.descent_speed * dt)
             self._mode = SEEKING
             if descended <= deepest:
                 descended = deepest
