@@ -151,6 +151,8 @@ class ControllerOutput:
         'failed'; 'support' for a foot the plan has on the ground)
     :param trunk_tilt: (2,) roll and pitch of the pelvis target about its heading frame: the
         stabilizer's hip strategy (rad)
+    :param command_leash_shift: (2,) how far the command leash moved the commanded state
+        towards the measured robot this cycle, world x y (m); zero while inside the leash
     """
 
     joint_setpoints: np.ndarray
@@ -184,6 +186,7 @@ class ControllerOutput:
     vertical_offsets: np.ndarray = field(default_factory=lambda: np.zeros(2))
     landing_modes: tuple = ('support', 'support')
     trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    command_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @property
     def cost(self) -> np.ndarray:

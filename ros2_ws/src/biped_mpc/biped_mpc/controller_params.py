@@ -81,6 +81,14 @@ class WalkingControllerParams:
                                             high=1.0)
     tilt_gain: float = parameter(0.2, 'posture feedback against the measured roll and pitch',
                                  low=0.0, high=5.0)
+    command_leash_along: float = parameter(
+        0.0, "the MPC's commanded hip is kept within this distance of the measured one along "
+        'the pelvis heading: beyond it the commanded state moves towards the robot, so the '
+        'servos pull a pushed robot back by at most this (biped_mpc.command_leash, m); 0: '
+        'unbounded', low=0.0, high=1.0)
+    command_leash_across: float = parameter(
+        0.0, 'the same across the pelvis heading, where the sole is half as wide (m); 0: '
+        'unbounded', low=0.0, high=1.0)
     # --- balance: the stabilizer between the MPC and the IK (biped_mpc.balance)
     balance: str = parameter(BALANCE_STABILIZER, 'stabilizer (DCM feedback, wrench distribution, '
                              'foot damping, force difference, drift, contact-aware landing) or '

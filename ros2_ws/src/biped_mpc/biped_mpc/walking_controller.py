@@ -62,6 +62,7 @@ from biped_mpc.controller_io import (
 from biped_mpc.balance.balance_loop import (BalanceLoop, BalanceLoopParams, BalanceResult,
                                             SensedFeet)
 from biped_mpc.balance.stabilizer import StabilizerReference
+from biped_mpc.command_leash import leash_shift, shift_positions
 from biped_mpc.controller_params import (
     BALANCE_STABILIZER, FEEDBACK_ESTIMATOR, IK_ANALYTIC, MODEL_THREE_MASS, PELVIS_GROUND_TRUTH,
     PELVIS_IMU_KINEMATICS, SWING_TARGET_PLANNED, WalkingControllerParams)
@@ -84,7 +85,8 @@ from biped_mpc.swing_attitude import attitude_correction, corrected_swing_target
 from biped_mpc.swing_smoothing import SwingSmoothing
 from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
-from biped_planner.rotations import quaternion_to_matrix, rotation_x, rotation_y, rotation_z
+from biped_planner.rotations import (quaternion_to_matrix, rotation_x, rotation_y, rotation_z,
+                                     yaw_of_matrix)
 from biped_planner.sides import LEFT, RIGHT, SIDES, SUPPORT_DOUBLE
 
 
@@ -163,6 +165,7 @@ class WalkingController:
         self._swing_start = SwingStart(params.swing_start_time_constant)
         self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
         self._swinging = [False, False]
+        self._leash_shift = np.zeros(2)
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
         self._com_height = lipm.com_height
@@ -334,9 +337,15 @@ class WalkingController:
         """Kalman correction with the measured outputs; the state the MPC starts from."""
         params = self.params
         command = self._command
+        hip = self._model_hip.of_pelvis(pelvis, rotation)
+        self._leash_shift = np.zeros(2)
+        if params.command_leash_along > 0.0 or params.command_leash_across > 0.0:
+            self._leash_shift = leash_shift(command, hip, params.command_leash_along,
+                                            params.command_leash_across,
+                                            yaw_of_matrix(rotation))
+            shift_positions(command, self._leash_shift)
         if params.stance_leg_projection:
             self._stance.project_legs(command)
-        hip = self._model_hip.of_pelvis(pelvis, rotation)
         outputs = self._measured_outputs(soles, hip, zmp, command @ self._zmp_row)
         kalman = self.estimator.correct(outputs)
         if params.stance_leg_projection:
@@ -490,4 +499,4 @@ class WalkingController:
             left_foot_target=targets.left_foot, right_foot_target=targets.right_foot,
             pelvis_position=np.asarray(pelvis, dtype=float).copy(),
             stance=self._stance.standing, next_state=next_state.copy(),
-            mpc_result=mpc.result, **terms)
+            mpc_result=mpc.result, command_leash_shift=self._leash_shift.copy(), **terms)

@@ -223,6 +223,25 @@ def test_tilt_feedback_leans_the_pelvis_against_the_measured_tilt(robot, referen
     np.testing.assert_allclose(right_p, out.right_foot_target[:3], atol=1e-9)
 
 
+def test_the_command_leash_brings_the_commanded_hip_to_a_pushed_robot(robot, reference, ik):
+    """A robot pushed 5 cm sideways: with a 2 cm leash across the heading the commanded hip
+    is moved 3 cm towards it (and the servos pull by 2 cm), without it the command stays."""
+    pushed = standing_pelvis() + np.array([0.0, -0.05, 0.0])
+    hips = {}
+    for across in (0.0, 0.02):
+        controller = WalkingController(WalkingControllerParams(
+            robot=robot, command_leash_along=0.04, command_leash_across=across))
+        controller.reset(0.0, standing_feedback(ik))
+        out = controller.step(0.0, reference.sample(0.0, N_SAMPLES, DT),
+                              standing_feedback(ik, pelvis=pushed))
+        hips[across] = out.hip_target
+        expected = [0.0, 0.03] if across else [0.0, 0.0]
+        np.testing.assert_allclose(out.command_leash_shift, expected, atol=1e-9)
+    # standing still, the MPC moves the commanded hip by micrometres in one period
+    assert hips[0.0][1] == pytest.approx(0.0, abs=1e-3)
+    assert hips[0.02][1] == pytest.approx(-0.03, abs=1e-3)
+
+
 def test_failed_qp_falls_back_to_the_previous_plan(controller, reference, ik, monkeypatch):
     feedback = standing_feedback(ik)
     controller.reset(0.0, feedback)
