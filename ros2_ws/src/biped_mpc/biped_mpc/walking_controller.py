@@ -17,7 +17,9 @@ returns the 12 leg joint setpoints for the next period:
    a feed-forward pattern generator, Kajita's preview control in effect) or from its blend
    with the estimate, x = x_cmd + g (x_kalman - x_cmd) (feedback='estimator', the paper's
    loop for g = 1; g < 1 is the standard remedy when the measured ZMP of a stiff
-   position-controlled robot is too noisy, with impacts, to be fed back at full gain).
+   position-controlled robot is too noisy, with impacts, to be fed back at full gain). With
+   a command leash (command_leash_along / _across, off by default; biped_mpc.command_leash)
+   the commanded state is first translated into a box around the measured hip.
 4. MPC (biped_mpc.linear_mpc, both planes) on the references and bounds of
    biped_mpc.reference_adapter, sampled at t + Ts, ..., t + Np Ts.
 5. Commanded motion: the MPC's jerks integrate the commanded state, x_cmd(k+1) = A_d x_cmd(k)
