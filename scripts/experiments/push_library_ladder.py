@@ -99,15 +99,16 @@ def main() -> None:
     phases = args.phases.split(',')
     forces = [float(f) for f in args.forces.split(',')]
     robot = coman_like()
-    params = WalkingControllerParams(robot=robot.controller_model, model='three_mass',
-                                     **{'balance': 'stabilizer', 'swing_target': 'planned',
+    params = WalkingControllerParams(robot=robot.controller_model,
+                                     **{'model': 'three_mass', 'balance': 'stabilizer',
+                                        'swing_target': 'planned',
                                         'swing_smoothing_time_constant':
                                             push_trial.RECOVERY_SWING_LAG, **settings['ctl']})
     adjuster = (replace(push_trial.HUMANOID_ADJUSTER, **settings['adj'])
                 if args.adjustment == 'on' else None)
     limits = replace(push_trial.HUMANOID_STEP_LIMITS, **settings['qp'])
     wall = time.monotonic()
-    print(f'three_mass, {args.gait.replace("_", " ")}, adjustment {args.adjustment}, '
+    print(f'{params.model}, {args.gait.replace("_", " ")}, adjustment {args.adjustment}, '
           f'{"one walk pushed every 3 s" if args.schedule else "a fresh walk per force"}, settings '
           f'{args.settings or "default"}: largest push walked through (N)\n')
     print('| direction | ' + ' | '.join(phases) + ' |')
