@@ -17,6 +17,8 @@ import numpy as np
 
 from biped_mpc.errors import InputError
 from biped_mpc.linear_model import LEFT_LEG, POSITION, RIGHT_LEG, state_index, TORSO
+from biped_mpc.validation import finite_array
+from biped_planner.rotations import rotation_z
 
 MASSES = (LEFT_LEG, TORSO, RIGHT_LEG)
 
@@ -41,18 +43,16 @@ def leash_shift(command: np.ndarray, measured_hip: np.ndarray, along: float, acr
     if not math.isfinite(heading):
         raise InputError(f'heading must be finite, got {heading!r}')
     command = np.asarray(command, dtype=float)
-    measured_hip = np.asarray(measured_hip, dtype=float)
-    if command.ndim != 2 or command.shape[0] != 2 or measured_hip.shape != (2,):
-        raise InputError(f'expected a (2, n) state and a (2,) hip, got {command.shape} and '
-                         f'{measured_hip.shape}')
-    gap = command[:, state_index(TORSO, POSITION)] - measured_hip
-    cos, sin = math.cos(heading), math.sin(heading)
-    local = np.array([cos * gap[0] + sin * gap[1], -sin * gap[0] + cos * gap[1]])
+    if command.ndim != 2 or command.shape[0] != 2:
+        raise InputError(f'expected a (2, n) commanded state, got {command.shape}')
+    measured_hip = finite_array('measured_hip', measured_hip, (2,))
+    to_world = rotation_z(heading)[:2, :2]
+    local = to_world.T @ (command[:, state_index(TORSO, POSITION)] - measured_hip)
     excess = np.zeros(2)
     for axis, half in enumerate((along, across)):
         if half > 0.0:
             excess[axis] = local[axis] - min(max(local[axis], -half), half)
-    return np.array([cos * excess[0] - sin * excess[1], sin * excess[0] + cos * excess[1]])
+    return to_world @ excess
 
 
 def shift_positions(command: np.ndarray, shift: np.ndarray) -> None:

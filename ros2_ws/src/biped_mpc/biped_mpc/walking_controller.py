@@ -94,11 +94,13 @@ from biped_planner.sides import LEFT, RIGHT, SIDES, SUPPORT_DOUBLE
 
 @dataclass(frozen=True)
 class _Estimate:
-    """The state the MPC starts from, the Kalman estimate and the measured outputs (2, 3)."""
+    """The state the MPC starts from, the Kalman estimate, the measured outputs (2, 3) and the
+    command leash's shift of the commanded state (2,)."""
 
     state: np.ndarray
     kalman: np.ndarray
     outputs: np.ndarray
+    leash_shift: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -167,7 +169,6 @@ class WalkingController:
         self._swing_start = SwingStart(params.swing_start_time_constant)
         self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
         self._swinging = [False, False]
-        self._leash_shift = np.zeros(2)
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
         self._com_height = lipm.com_height
@@ -340,12 +341,11 @@ class WalkingController:
         params = self.params
         command = self._command
         hip = self._model_hip.of_pelvis(pelvis, rotation)
-        self._leash_shift = np.zeros(2)
+        shift = np.zeros(2)
         if params.command_leash_along > 0.0 or params.command_leash_across > 0.0:
-            self._leash_shift = leash_shift(command, hip, params.command_leash_along,
-                                            params.command_leash_across,
-                                            yaw_of_matrix(rotation))
-            shift_positions(command, self._leash_shift)
+            shift = leash_shift(command, hip, params.command_leash_along,
+                                params.command_leash_across, yaw_of_matrix(rotation))
+            shift_positions(command, shift)
         if params.stance_leg_projection:
             self._stance.project_legs(command)
         outputs = self._measured_outputs(soles, hip, zmp, command @ self._zmp_row)
@@ -361,7 +361,7 @@ class WalkingController:
                 self._stance.project_legs(state)
         else:
             state = command.copy()
-        return _Estimate(state, kalman, outputs)
+        return _Estimate(state, kalman, outputs, shift)
 
     def _solve_mpc(self, state: np.ndarray, references: Optional[CycleReferences]) -> _MpcStep:
         """The MPC's jerks; zero jerks (coasting) without references or when the MPC fails."""
@@ -501,4 +501,4 @@ class WalkingController:
             left_foot_target=targets.left_foot, right_foot_target=targets.right_foot,
             pelvis_position=np.asarray(pelvis, dtype=float).copy(),
             stance=self._stance.standing, next_state=next_state.copy(),
-            mpc_result=mpc.result, command_leash_shift=self._leash_shift.copy(), **terms)
+            mpc_result=mpc.result, command_leash_shift=estimate.leash_shift, **terms)
