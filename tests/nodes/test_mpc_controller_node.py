@@ -141,12 +141,16 @@ def seconds(stamp) -> float:
 
 
 @pytest.fixture
-def walk_loop(ros_context, executor):
+def walk_loop(ros_context, executor, request):
     """Simulator + controller, the controller waiting 10 ms of wall time for a reference (the
-    test plays the reference generator, and then stops)."""
+    test plays the reference generator, and then stops). Indirect parametrization: more
+    controller parameters as {name: value}."""
     executor.track(SimulatorNode(context=ros_context))
+    extra = [Parameter(name, value=value)
+             for name, value in getattr(request, 'param', {}).items()]
     executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
+        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]
+        + extra))
     client = executor.track(rclpy.create_node('mpc_walk_client', context=ros_context))
     from geometry_msgs.msg import PoseArray, WrenchStamped
     g = dict(client=client, executor=executor, rosout=RosoutLines(client))
@@ -223,14 +227,14 @@ def test_references_lost_mid_step_the_controller_finishes_the_step_and_stands(wa
     assert abs(pelvis.y) < 0.03
 
 
-def test_a_landing_moved_past_the_touchdown_gate_is_reported_in_the_log(walk_loop):
-    """A replan mid-swing moves the landing 8 cm ahead: the loaded foot is then farther than
-    touchdown_gate_distance from the landing planned at its lift-off, and the node says so."""
+def walk_with_a_landing_moved_mid_swing(g):
+    """A replan early in a single support moves the landing 8 cm ahead (more than
+    touchdown_gate_distance); the references go on 0.5 s past its touchdown. Returns the
+    side of the moved foot ('left' or 'right')."""
     from biped_planner.footsteps import straight_footsteps
     from biped_planner.plan_adjustment import moved_landings, swing_step_at
     from biped_planner.step_timing import StepTiming
     from biped_planner.walking_reference import WalkingReference
-    g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)
     params = ReferenceParams(com_height=0.497, foot_length=0.2, foot_width=0.1)
     play_references(g, lambda t: standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(
@@ -246,8 +250,24 @@ def test_a_landing_moved_past_the_touchdown_gate_is_reported_in_the_log(walk_loo
                               (swing.landing.x + 0.08, swing.landing.y))
     moved = walk.adjust_step(t_now, landings, swing.touchdown)
     play_references(g, lambda t: moved.sample(t, 90, 0.02), swing.touchdown + 0.5)
-    side = 'left' if swing.landing.side == LEFT else 'right'
-    assert g['rosout'].has(f'{side} foot', 'touchdown is not confirmed'), g['rosout'].lines
+    return 'left' if swing.landing.side == LEFT else 'right'
+
+
+def test_a_foot_landing_where_a_replan_moved_it_is_confirmed(walk_loop):
+    """The touchdown gate follows the plan (touchdown_gate_follows_plan, the default)."""
+    side = walk_with_a_landing_moved_mid_swing(walk_loop)
+    assert not walk_loop['rosout'].has('touchdown is not confirmed'), walk_loop['rosout'].lines
+    assert walk_loop['diag'].messages[-1].foot_contacts[('left', 'right').index(side)]
+
+
+@pytest.mark.parametrize('walk_loop', [{'touchdown_gate_follows_plan': False}], indirect=True)
+def test_a_landing_moved_past_a_gate_held_at_lift_off_is_reported_in_the_log(walk_loop):
+    """With the gate held at the landing planned at lift-off, the loaded foot is farther than
+    touchdown_gate_distance from it, is never confirmed, and the node says so."""
+    side = walk_with_a_landing_moved_mid_swing(walk_loop)
+    assert walk_loop['rosout'].has(f'{side} foot', 'touchdown is not confirmed'), \
+        walk_loop['rosout'].lines
+    assert not walk_loop['diag'].messages[-1].foot_contacts[('left', 'right').index(side)]
 
 
 def test_bad_sensor_messages_are_refused_the_previous_kept_and_the_robot_stands(walk_loop):

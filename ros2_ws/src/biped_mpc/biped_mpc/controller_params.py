@@ -200,6 +200,11 @@ class WalkingControllerParams:
     touchdown_gate_distance: float = parameter(0.05, 'largest horizontal distance of the foot '
                                                'from its landing point for a touchdown (m)',
                                                low=0.001, high=1.0)
+    touchdown_gate_follows_plan: bool = parameter(
+        True, "the gate's landing point and time follow the plan while the foot swings (a step "
+        'adjustment moves them); false: the landing planned at lift-off, and a foot landing '
+        'where an adjusted step put it more than touchdown_gate_distance from that point is '
+        'never confirmed')
     stabilizer_planned_support: bool = parameter(
         True, 'the stabilizer distributes the wrench, damps the ankles and levels the feet '
         'on the feet the plan has on the ground (Kajita), not only on detected contacts: a '

@@ -164,3 +164,32 @@ def test_bad_values_are_refused():
         SwingLanding().update(0.0, 0.0, 0.0, False, 0.0)
     with pytest.raises(InputError):
         SwingLanding().reset(math.nan, 0.0)
+
+
+def test_a_retimed_landing_stretches_from_the_new_time():
+    landing = SwingLanding(SwingLandingParams(descent_speed=0.2))
+    landing.reset(LANDING_TIME, 0.0)
+    landing.update(0.1, DT, 0.02, False, 0.02)
+    landing.retime(0.6)  # a step adjustment made the step 0.2 s longer
+    before = landing.update(0.5, DT, 0.01, False, 0.01)
+    assert before.mode == SWINGING and before.event is None
+    after = landing.update(0.6, DT, 0.0, False, 0.0)
+    assert after.mode == SEEKING
+    assert (after.event.kind, after.event.t) == (STRETCH, pytest.approx(0.6))
+
+
+def test_a_landing_already_seeking_keeps_its_time():
+    landing = SwingLanding()
+    landing.reset(LANDING_TIME, 0.0)
+    first = landing.update(LANDING_TIME, DT, 0.0, False, 0.0)
+    assert first.event.kind == STRETCH
+    landing.retime(0.6)
+    later = landing.update(LANDING_TIME + DT, DT, 0.0, False, 0.0)
+    assert later.mode == SEEKING and later.event is None
+
+
+def test_a_retime_to_nan_is_refused():
+    landing = SwingLanding()
+    landing.reset(LANDING_TIME, 0.0)
+    with pytest.raises(InputError):
+        landing.retime(math.nan)

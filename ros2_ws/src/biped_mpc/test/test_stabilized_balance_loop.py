@@ -37,13 +37,14 @@ def sensor_wrench(normal_force, cop_x=0.0, sensor_height=0.04, foot_mass=FOOT_MA
 
 
 class Window:
-    """A reference window: right foot swinging from sample 0, landing at sample k."""
+    """A reference window: the left foot swinging from sample 0, landing at sample k (k = 0:
+    already down)."""
 
     def __init__(self, n=30, landing=20, x_landing=0.1):
         self.support = np.array([SUPPORT_RIGHT] * landing + [SUPPORT_DOUBLE] * (n - landing))
         self.left_foot = np.tile([0.0, 0.07, 0.0], (n, 1))
         self.right_foot = np.tile([0.0, -0.07, 0.0], (n, 1))
-        self.left_foot[:, 0] = np.minimum(np.arange(n) / landing, 1.0) * x_landing
+        self.left_foot[:, 0] = np.minimum(np.arange(n) / max(landing, 1), 1.0) * x_landing
         self.left_foot[landing:, 2] = 0.0
 
 
@@ -55,14 +56,18 @@ def test_planned_landing_is_the_first_support_sample():
     assert planned_landing(window, RIGHT, 1.0, DT)[0] == pytest.approx(1.0 + DT)
 
 
-def walk_to_landing(loop, x_left, duration=0.8):
+def walk_to_landing(loop, x_left, duration=0.8, moved_landing=None):
     """The left foot swings (landing planned 0.1 m ahead at 0.4 s), is loaded with 300 N from
-    0.3 s on where x_left puts it; returns the warnings of every cycle."""
-    window = Window(landing=20)
+    0.3 s on where x_left puts it; returns the warnings of every cycle. moved_landing (t, x):
+    from t on the plan lands the foot at x instead (a step adjustment)."""
     air, load = sensor_wrench(0.0), sensor_wrench(300.0)
     events = []
     for k in range(int(round(duration / DT))):
         t = k * DT
+        x_landing = 0.1
+        if moved_landing is not None and t >= moved_landing[0] - 1e-9:
+            x_landing = moved_landing[1]
+        window = Window(landing=max(20 - k, 0), x_landing=x_landing)  # sampled at t
         loop.sense(t, DT, np.array([air if t < 0.3 - 1e-9 else load, load]),
                    flat_soles(x_left=x_left), window)
         events += loop.take_events()
@@ -74,7 +79,47 @@ def test_a_loaded_foot_refused_by_the_distance_gate_is_reported_once(loop):
     assert loop.contacts == (False, True)
     assert len(events) == 1
     assert events[0].startswith('left foot: 300 N on it 0.20 s after its planned landing')
+    assert '0.100 m from its planned landing' in events[0]
+
+
+def loop_with(coman_like_model, **fields):
+    params = WalkingControllerParams(robot=coman_like_model, **fields)
+    return BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
+
+
+def test_a_foot_landing_where_an_adjustment_moved_its_step_is_confirmed(coman_like_model):
+    # the plan moves the landing 0.1 -> 0.2 m at 0.2 s; the foot lands there, 0.1 m from the
+    # point planned at lift-off (touchdown_gate_distance 0.05 m)
+    loop = loop_with(coman_like_model)
+    events = walk_to_landing(loop, x_left=0.2, moved_landing=(0.2, 0.2))
+    assert loop.contacts == (True, True)
+    assert events == []
+
+
+def test_a_gate_held_at_the_lift_off_landing_refuses_the_moved_step(coman_like_model):
+    loop = loop_with(coman_like_model, touchdown_gate_follows_plan=False)
+    events = walk_to_landing(loop, x_left=0.2, moved_landing=(0.2, 0.2))
+    assert loop.contacts == (False, True)
+    assert len(events) == 1
     assert '0.100 m from the landing planned at its lift-off' in events[0]
+
+
+def test_a_moved_landing_time_moves_the_gate_phase(coman_like_model):
+    # planned at 0.4 s, the step is moved to land at 0.6 s: loaded at 0.3 s on the planned
+    # point, the foot is inside the gate distance but at phase 0.3 / 0.6 = 0.5 only from 0.3 s
+    loop = loop_with(coman_like_model, touchdown_gate_phase=0.6)
+    air, load = sensor_wrench(0.0), sensor_wrench(300.0)
+    confirmed, lifted = None, False
+    for k in range(30):
+        t = k * DT
+        window = Window(landing=max(30 - k, 0) if t >= 0.1 - 1e-9 else max(20 - k, 0))
+        loop.sense(t, DT, np.array([air if t < 0.3 - 1e-9 else load, load]),
+                   flat_soles(x_left=0.1), window)
+        lifted = lifted or not loop.contacts[LEFT]
+        if confirmed is None and lifted and loop.contacts[LEFT]:
+            confirmed = t
+    # phase 0.6 of a swing from 0 to 0.6 s is 0.36 s (at 0.4 s without the move: 0.3 s)
+    assert confirmed == pytest.approx(0.36 + DT, abs=DT + 1e-9)
 
 
 def test_a_foot_landing_at_its_target_is_confirmed_and_not_reported(loop):

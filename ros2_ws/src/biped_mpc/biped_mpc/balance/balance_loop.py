@@ -56,6 +56,8 @@ class BalanceLoopParams:
     :param landing: descent after a late planned landing
     :param ft_sensor_height: F/T sensor origin above the sole centre, along the sole z (m)
     :param contact_aware_landing: stop early feet, lower late ones
+    :param gate_follows_plan: a swing's landing point and time (the touchdown gate's, the
+        landing logic's) follow the plan each cycle; false: fixed at lift-off
     :param com_admittance: pelvis target speed per metre of measured - desired ZMP (1/s)
     :param com_admittance_time_constant: leak of that offset (s)
     :param com_admittance_limit: largest offset per axis (m)
@@ -70,6 +72,7 @@ class BalanceLoopParams:
     landing: SwingLandingParams
     ft_sensor_height: float = 0.04
     contact_aware_landing: bool = True
+    gate_follows_plan: bool = True
     com_admittance: float = 0.0
     com_admittance_time_constant: float = 1.0
     com_admittance_limit: float = 0.03
@@ -121,6 +124,7 @@ class BalanceLoopParams:
                                        max_extra_depth=p.landing_max_extra_depth,
                                        max_lead=p.landing_max_lead),
             ft_sensor_height=p.ft_sensor_height, contact_aware_landing=p.contact_aware_landing,
+            gate_follows_plan=p.touchdown_gate_follows_plan,
             com_admittance=p.com_admittance,
             com_admittance_time_constant=p.com_admittance_time_constant,
             com_admittance_limit=p.com_admittance_limit,
@@ -183,6 +187,11 @@ class _Swing:
         self.lifted = False  # the detector saw the foot leave the ground: contacts now count
         self.refused_since: Optional[float] = None  # loaded but gated, after the landing time
         self.reported = False
+
+    def follow(self, landing_time: float, landing_point: np.ndarray) -> None:
+        """The plan moved the landing (x, y) and its time; the height stays the lift-off's."""
+        self.landing_time = landing_time
+        self.landing_point[:2] = landing_point[:2]
 
     def phase(self, t: float) -> float:
         duration = self.landing_time - self.start
@@ -313,10 +322,12 @@ class BalanceLoop:
         if swing.reported or t - swing.refused_since < UNCONFIRMED_REPORT_TIME - 1e-9:
             return
         swing.reported = True
+        where = ('its planned landing' if self.params.gate_follows_plan
+                 else 'the landing planned at its lift-off')
         self._events.append(
             f'{SIDE_NAMES[side]} foot: {state.normal_force:.0f} N on it '
             f'{t - swing.landing_time:.2f} s after its planned landing, but {distance:.3f} m from '
-            f'the landing planned at its lift-off (touchdown_gate_distance '
+            f'{where} (touchdown_gate_distance '
             f'{self.params.touchdown.gate_distance:.3f} m): the touchdown is not confirmed and '
             f'the foot is not latched')
 
@@ -336,6 +347,15 @@ class BalanceLoop:
                 self._swings[side] = _Swing(t, landing_time, point)
                 self._landings[side].reset(landing_time, float(point[2]))
                 self._active[side] = True
+            elif swinging and swing is not None and self.params.gate_follows_plan:
+                # A step adjustment moves the landing of the swing under way: the gate and the
+                # landing logic take the plan as it is now. Held at the lift-off's, a foot
+                # landing where an adjusted step put it, more than the gate distance from the
+                # old point, was never confirmed, and the walk went on with no foot latched.
+                landing = planned_landing(window, side, t, dt)
+                if landing is not None:
+                    swing.follow(*landing)
+                    self._landings[side].retime(landing[0])
             elif not swinging and swing is not None and self._detectors[side].in_contact:
                 self._swings[side] = None
                 self._active[side] = False

@@ -130,6 +130,20 @@ class SwingLanding:
         self._height = float(landing_height)
         self._stretched = False
 
+    def retime(self, landing_time: float) -> None:
+        """The plan moved the landing time of the swing under way (a step adjustment).
+
+        Taken only while the foot still swings to the planned time: once the target seeks the
+        ground or has landed, the events already raised keep their time.
+
+        :param landing_time: the new planned landing time t_L (s)
+        :raises InputError: if the time is NaN
+        """
+        if math.isnan(landing_time):
+            raise InputError(f'landing time must be a number, got {landing_time!r}')
+        if self._mode == SWINGING and not self._stretched:
+            self._landing_time = float(landing_time)
+
     def update(self, t: float, dt: float, planned_height: float, in_contact: bool,
                measured_height: float, touching: bool = False) -> SwingLandingResult:
         """One control cycle.
