@@ -14,10 +14,15 @@ FOOT_MASS = 0.75
 G = 9.81
 
 
+def loop_with(coman_like_model, **fields):
+    """A balance loop of the controller's parameters with these fields changed."""
+    params = WalkingControllerParams(robot=coman_like_model, **fields)
+    return BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
+
+
 @pytest.fixture
 def loop(coman_like_model):
-    params = WalkingControllerParams(robot=coman_like_model)
-    return BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
+    return loop_with(coman_like_model)
 
 
 def flat_soles(x_left=0.0, x_right=0.0):
@@ -80,11 +85,6 @@ def test_a_loaded_foot_refused_by_the_distance_gate_is_reported_once(loop):
     assert len(events) == 1
     assert events[0].startswith('left foot: 300 N on it 0.20 s after its planned landing')
     assert '0.100 m from its planned landing' in events[0]
-
-
-def loop_with(coman_like_model, **fields):
-    params = WalkingControllerParams(robot=coman_like_model, **fields)
-    return BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
 
 
 def test_a_foot_landing_where_an_adjustment_moved_its_step_is_confirmed(coman_like_model):
@@ -182,8 +182,7 @@ def test_the_hip_strategy_swings_the_trunk_in_single_support_only(coman_like_mod
     """The DCM far right of the right sole: on the right foot alone the pelvis target rolls
     towards the fall (positive roll, its top towards -y); planned on both feet it stays
     upright (sole edges in a double support are the foot damping's)."""
-    params = WalkingControllerParams(robot=coman_like_model, hip_strategy_gain=1.0)
-    loop = BalanceLoop(BalanceLoopParams.from_controller(params, 30.95, 0.497))
+    loop = loop_with(coman_like_model, hip_strategy_gain=1.0)
     soles = flat_soles()
     targets = IkTargets(np.array([0.0, 0.0, 0.54]), np.array([0.0, 0.07, 0.05, 0.0]),
                         np.array([0.0, -0.07, 0.0, 0.0]), 0.0)
