@@ -171,7 +171,7 @@ def clock_time(g) -> float:
     return seconds(g['clock'].messages[-1].clock)
 
 
-def play_references(g, source, until: float) -> None:
+def play_references(g, source, until: float, walk_adjustments: int = 0) -> None:
     """Publish source(t) for every sensor time t (as the reference generator does) until t."""
     from builtin_interfaces.msg import Time
     while True:
@@ -182,7 +182,8 @@ def play_references(g, source, until: float) -> None:
             return
         window = source(t)
         g['refs'].publish(reference_trajectory_msg(window, 1, 0.02, Time(
-            sec=int(t), nanosec=int(round((t - int(t)) * 1e9)))))
+            sec=int(t), nanosec=int(round((t - int(t)) * 1e9))),
+            walk_adjustments=walk_adjustments))
 
 
 def spin_sim_time(g, seconds_of_sim: float, timeout: float = 60.0) -> None:
@@ -268,6 +269,28 @@ def test_a_landing_moved_past_a_gate_held_at_lift_off_is_reported_in_the_log(wal
     assert walk_loop['rosout'].has(f'{side} foot', 'touchdown is not confirmed'), \
         walk_loop['rosout'].lines
     assert not walk_loop['diag'].messages[-1].foot_contacts[('left', 'right').index(side)]
+
+
+@pytest.mark.parametrize('walk_loop', [{'adjusted_walk_dcm_leash': 0.001}], indirect=True)
+def test_references_of_an_adjusted_walk_leash_the_commanded_dcm(walk_loop):
+    """walk_adjustments > 0 on reference_trajectory turns the DCM leash on (here 1 mm, which
+    any walk exceeds), and controller_diagnostics shows its shift; 0 leaves it off."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.step_timing import StepTiming
+    from biped_planner.walking_reference import WalkingReference
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    params = ReferenceParams(com_height=0.497, foot_length=0.2, foot_width=0.1)
+    walk = WalkingReference(straight_footsteps(6, 0.1, 0.14), StepTiming(0.4, 0.2), params,
+                            t_start=clock_time(g) + 0.2)
+    play_references(g, lambda t: walk.sample(t, 90, 0.02), walk.t_start + 1.5)
+    before = len(g['diag'].messages)
+    assert before > 50 and not any(np.any(d.dcm_leash_shift) for d in g['diag'].messages)
+    play_references(g, lambda t: walk.sample(t, 90, 0.02), walk.t_start + 2.5,
+                    walk_adjustments=1)
+    shifts = [np.hypot(*d.dcm_leash_shift) for d in g['diag'].messages[before + 2:]]
+    assert len(shifts) > 30 and max(shifts) > 0.001, shifts
+    assert stands_on_both_feet(g) or g['odom'].messages[-1].pose.pose.position.z > 0.5
 
 
 def test_bad_sensor_messages_are_refused_the_previous_kept_and_the_robot_stands(walk_loop):

@@ -337,8 +337,9 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
         adjusting_graph):
     """A balance estimate whose DCM strays 15 cm to the left in a single support on the right
     foot: the reference generator moves the left landing out, says so on step_adjustment, and
-    its references carry it (a higher plan_revision); the planner republishes the plan with it
-    (same plan_id) and steps on from it; the state machine follows the touchdown."""
+    its references carry it (a higher plan_revision, walk_adjustments); the planner republishes
+    the plan with it (same plan_id) and steps on from it; the state machine follows the
+    touchdown."""
     g = adjusting_graph
     adjustments = Collector(g['client'], StepAdjustment, 'step_adjustment', 10)
     estimates = g['client'].create_publisher(BalanceEstimate, 'balance_estimate', 10)
@@ -396,6 +397,7 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
     g['clock'].advance(0.1, pace=2.0)
     newest = g['refs'].messages[-1]
     assert newest.plan_revision >= 1
+    assert newest.walk_adjustments == len(adjustments.messages) >= 1  # the controller's leash
     window = window_from_reference_msg(newest)
     assert window.left_foot[-1, 1] == pytest.approx(landing.y, abs=0.05)
     # the state machine's single support ends at the adjusted touchdown

@@ -10,13 +10,20 @@ position by the excess, the velocities untouched), bounds the pull: the servos t
 pushed robot back by at most the box's half size, the stabilizer and the step adjuster answer
 the rest. The sole is half as wide as it is long, so the box may be narrower across the
 heading than along it; a side of 0 leaves that axis unbounded.
+
+Once the step adjuster has moved a step of the walk, the plan follows the measured DCM; an MPC
+that keeps its own unpushed DCM then drives its model against the adjusted footholds (a pushed
+robot's commanded hip stays behind it, and with the ZMP bounded to the step placed ahead the
+model can only fall back). The DCM leash keeps the commanded DCM within a radius of the measured
+one by changing every mass's commanded velocity alike: the positions stay, so the targets do not
+jump, and the model's divergent motion is the robot's.
 """
 import math
 
 import numpy as np
 
 from biped_mpc.errors import InputError
-from biped_mpc.linear_model import LEFT_LEG, POSITION, RIGHT_LEG, state_index, TORSO
+from biped_mpc.linear_model import LEFT_LEG, POSITION, RIGHT_LEG, state_index, TORSO, VELOCITY
 from biped_mpc.validation import finite_array
 from biped_planner.rotations import rotation_z
 
@@ -63,3 +70,37 @@ def shift_positions(command: np.ndarray, shift: np.ndarray) -> None:
     """
     for mass in MASSES:
         command[:, state_index(mass, POSITION)] -= shift
+
+
+def dcm_leash_excess(commanded_dcm: np.ndarray, measured_dcm: np.ndarray,
+                     radius: float) -> np.ndarray:
+    """How far the commanded DCM is outside the circle of the measured DCM.
+
+    :param commanded_dcm: (2,) the commanded state's DCM (m)
+    :param measured_dcm: (2,) the measured DCM (m)
+    :param radius: radius of the circle (m), > 0
+    :return: (2,) the commanded DCM minus its nearest point in the circle (m); zero inside
+    :raises InputError: for a radius that is not > 0 and finite, or non-finite or misshaped DCMs
+    """
+    if not (math.isfinite(radius) and radius > 0.0):
+        raise InputError(f'the DCM leash radius must be > 0 m, got {radius!r}')
+    error = (finite_array('commanded_dcm', commanded_dcm, (2,))
+             - finite_array('measured_dcm', measured_dcm, (2,)))
+    distance = float(np.hypot(*error))
+    if distance <= radius:
+        return np.zeros(2)
+    return error * (1.0 - radius / distance)
+
+
+def shift_velocities(command: np.ndarray, dcm_excess: np.ndarray, omega: float) -> None:
+    """Move the commanded DCM back by dcm_excess through the velocities, in place.
+
+    Every mass's velocity changes by -omega dcm_excess, so the centre of mass velocity does,
+    and the DCM c + c_dot / omega moves by -dcm_excess with the positions untouched.
+
+    :param command: (2, 9) commanded state
+    :param dcm_excess: (2,) from dcm_leash_excess (m)
+    :param omega: the pendulum's natural frequency (1/s)
+    """
+    for mass in MASSES:
+        command[:, state_index(mass, VELOCITY)] -= omega * dcm_excess

@@ -153,6 +153,8 @@ class ControllerOutput:
         stabilizer's hip strategy (rad)
     :param command_leash_shift: (2,) how far the command leash moved the commanded state
         towards the measured robot this cycle, world x y (m); zero while inside the leash
+    :param dcm_leash_shift: (2,) how far the DCM leash of an adjusted walk moved the commanded
+        DCM back towards the measured one this cycle, world x y (m); zero while inside
     """
 
     joint_setpoints: np.ndarray
@@ -187,6 +189,7 @@ class ControllerOutput:
     landing_modes: tuple = ('support', 'support')
     trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))
     command_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    dcm_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @property
     def cost(self) -> np.ndarray:

@@ -19,7 +19,9 @@ returns the 12 leg joint setpoints for the next period:
    loop for g = 1; g < 1 is the standard remedy when the measured ZMP of a stiff
    position-controlled robot is too noisy, with impacts, to be fed back at full gain). With
    a command leash (command_leash_along / _across, off by default; biped_mpc.command_leash)
-   the commanded state is first translated into a box around the measured hip.
+   the commanded state is first translated into a box around the measured hip. Once the step
+   adjuster has moved a step of the walk (walk_adjusted), the commanded DCM is kept within
+   adjusted_walk_dcm_leash of the measured one through the commanded velocities.
 4. MPC (biped_mpc.linear_mpc, both planes) on the references and bounds of
    biped_mpc.reference_adapter, sampled at t + Ts, ..., t + Np Ts.
 5. Commanded motion: the MPC's jerks integrate the commanded state, x_cmd(k+1) = A_d x_cmd(k)
@@ -64,7 +66,8 @@ from biped_mpc.controller_io import (
 from biped_mpc.balance.balance_loop import (BalanceLoop, BalanceLoopParams, BalanceResult,
                                             SensedFeet)
 from biped_mpc.balance.stabilizer import StabilizerReference
-from biped_mpc.command_leash import leash_shift, shift_positions
+from biped_mpc.command_leash import (
+    dcm_leash_excess, leash_shift, shift_positions, shift_velocities)
 from biped_mpc.controller_params import (
     BALANCE_STABILIZER, FEEDBACK_ESTIMATOR, IK_ANALYTIC, MODEL_THREE_MASS, PELVIS_GROUND_TRUTH,
     PELVIS_IMU_KINEMATICS, SWING_TARGET_PLANNED, WalkingControllerParams)
@@ -101,6 +104,9 @@ class _Estimate:
     kalman: np.ndarray
     outputs: np.ndarray
     leash_shift: np.ndarray
+    com: np.ndarray           # (2,) measured centre of mass (m)
+    dcm: np.ndarray           # (2,) measured DCM (m)
+    dcm_leash_shift: np.ndarray  # (2,) the commanded DCM moved back by the DCM leash (m)
 
 
 @dataclass(frozen=True)
@@ -178,6 +184,9 @@ class WalkingController:
             params, lipm.mass, lipm.com_height))
                          if params.balance == BALANCE_STABILIZER else None)
         self._reset_done = False
+        # Set by the caller each cycle: the step adjuster has moved a step of the walk, so the
+        # plan follows the measured DCM and the commanded DCM is leashed to it.
+        self.walk_adjusted = False
 
     def reset(self, t: float, feedback: ControllerFeedback) -> None:
         """Start from a standing robot: both feet latched where they are, masses at rest.
@@ -275,8 +284,8 @@ class WalkingController:
         targets = self._targets(next_state, references, soles)
         balance = None
         if sensed is not None:
-            balance = self._stabilize(t, targets, sensed, soles, pelvis, rotation, command,
-                                      estimate.outputs, references)
+            balance = self._stabilize(t, targets, sensed, soles, pelvis, command, estimate,
+                                      references)
             targets = balance.targets
         ik = self._solve_ik(targets, pelvis, rotation)
         status = (STATUS_OK if references is not None else STATUS_REFERENCE_ERROR) \
@@ -349,6 +358,17 @@ class WalkingController:
         if params.stance_leg_projection:
             self._stance.project_legs(command)
         outputs = self._measured_outputs(soles, hip, zmp, command @ self._zmp_row)
+        com, dcm = self._measured_dcm(outputs, hip)
+        dcm_shift = np.zeros(2)
+        if self.walk_adjusted and params.adjusted_walk_dcm_leash > 0.0 and \
+                len(self._com_history) > 1:
+            # after the stance-leg projection, so that the MPC and the stabilizer start from a
+            # DCM on the leash (the next cycle's projection takes back a part of a stance leg's
+            # change, and the leash tops it up)
+            commanded_dcm = (command @ self._com_row
+                             + command @ self._com_velocity_row / self._omega)
+            dcm_shift = dcm_leash_excess(commanded_dcm, dcm, params.adjusted_walk_dcm_leash)
+            shift_velocities(command, dcm_shift, self._omega)
         kalman = self.estimator.correct(outputs)
         if params.stance_leg_projection:
             # Constrained filtering: the estimate is projected on the stance-leg constraint too
@@ -361,7 +381,23 @@ class WalkingController:
                 self._stance.project_legs(state)
         else:
             state = command.copy()
-        return _Estimate(state, kalman, outputs, shift)
+        return _Estimate(state, kalman, outputs, shift, com, dcm, dcm_shift)
+
+    def _measured_dcm(self, outputs: np.ndarray, hip: np.ndarray) -> tuple:
+        """The measured centre of mass and DCM (2,) each, once per cycle.
+
+        The centre of mass is the model's of the measured masses (legs midway between soles
+        and hip, the torso at the model hip); its velocity is the mean over the last two
+        periods, as the pelvis servo's (the one-period difference carries the servos'
+        vibration).
+        """
+        masses = self.model.masses
+        com = (masses[LEFT_LEG] * outputs[:, OUTPUT_LEFT_LEG] + masses[TORSO] * hip
+               + masses[RIGHT_LEG] * outputs[:, OUTPUT_RIGHT_LEG]) / sum(masses)
+        self._com_history = (self._com_history + [com])[-3:]
+        velocity = ((com - self._com_history[0]) / ((len(self._com_history) - 1) * self._dt)
+                    if len(self._com_history) > 1 else np.zeros(2))
+        return com, com + velocity / self._omega
 
     def _solve_mpc(self, state: np.ndarray, references: Optional[CycleReferences]) -> _MpcStep:
         """The MPC's jerks; zero jerks (coasting) without references or when the MPC fails."""
@@ -412,34 +448,23 @@ class WalkingController:
         return targets
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
-                   pelvis: np.ndarray, rotation: np.ndarray, command: np.ndarray,
-                   outputs: np.ndarray, references: Optional[CycleReferences]) -> BalanceResult:
+                   pelvis: np.ndarray, command: np.ndarray, estimate: _Estimate,
+                   references: Optional[CycleReferences]) -> BalanceResult:
         """The stabilizer on the targets: the commanded state's DCM against the measured one.
 
-        The measured centre of mass is the model's of the measured masses (legs midway between
-        soles and hip, the torso at the model hip); its velocity is the mean over the last two
-        periods, as the pelvis servo's (the one-period difference carries the servos'
-        vibration). The Kalman estimate is not used here: it reads the ZMP the stabilizer
-        itself moves, and fed back through the foot damping it oscillated standing.
+        The measured DCM is the one of _measured_dcm. The Kalman estimate is not used here: it
+        reads the ZMP the stabilizer itself moves, and fed back through the foot damping it
+        oscillated standing.
         """
-        omega = self._omega
         reference = StabilizerReference(
             zmp=command @ self._zmp_row,
-            dcm=command @ self._com_row + command @ self._com_velocity_row / omega)
-        masses = self.model.masses
-        hip = self._model_hip.of_pelvis(pelvis, rotation)
-        com_xy = (masses[LEFT_LEG] * outputs[:, OUTPUT_LEFT_LEG] + masses[TORSO] * hip
-                  + masses[RIGHT_LEG] * outputs[:, OUTPUT_RIGHT_LEG]) / sum(masses)
-        self._com_history = (self._com_history + [com_xy])[-3:]
-        velocity = ((com_xy - self._com_history[0]) / ((len(self._com_history) - 1) * self._dt)
-                    if len(self._com_history) > 1 else np.zeros(2))
-        dcm = com_xy + velocity / omega
-        com = np.array([com_xy[0], com_xy[1], self._com_height])
+            dcm=command @ self._com_row + command @ self._com_velocity_row / self._omega)
+        com = np.array([estimate.com[0], estimate.com[1], self._com_height])
         planned = None
         if self.params.stabilizer_planned_support and references is not None:
             planned = tuple(on_support(side, references.support_now) for side in SIDES)
         return self._balance.update(t, self._dt, targets, sensed, soles, pelvis, reference,
-                                    com, dcm, planned)
+                                    com, estimate.dcm, planned)
 
     def _solve_ik(self, targets: IkTargets, pelvis: np.ndarray, rotation: np.ndarray) -> _IkStep:
         """Joint setpoints of the targets, the pelvis moved by the servo and the posture lean."""
@@ -501,4 +526,5 @@ class WalkingController:
             left_foot_target=targets.left_foot, right_foot_target=targets.right_foot,
             pelvis_position=np.asarray(pelvis, dtype=float).copy(),
             stance=self._stance.standing, next_state=next_state.copy(),
-            mpc_result=mpc.result, command_leash_shift=estimate.leash_shift, **terms)
+            mpc_result=mpc.result, command_leash_shift=estimate.leash_shift,
+            dcm_leash_shift=estimate.dcm_leash_shift, **terms)

@@ -4,10 +4,12 @@ import math
 import numpy as np
 import pytest
 
-from biped_mpc.command_leash import leash_shift, shift_positions
+from biped_mpc.command_leash import (dcm_leash_excess, leash_shift, shift_positions,
+                                     shift_velocities)
 from biped_mpc.errors import InputError
 from biped_mpc.linear_model import (ACCELERATION, LEFT_LEG, N_STATES, POSITION, RIGHT_LEG,
                                     state_index, TORSO, VELOCITY)
+from biped_mpc.linear_model import LinearModel
 
 
 def state(hip, left=(0.0, 0.1), right=(0.0, -0.1)):
@@ -81,3 +83,45 @@ def test_misshaped_inputs_are_refused():
         leash_shift(np.zeros((3, N_STATES)), np.zeros(2), 0.02, 0.02, 0.0)
     with pytest.raises(InputError):
         leash_shift(state((0.0, 0.0)), np.zeros(3), 0.02, 0.02, 0.0)
+
+
+def test_a_commanded_dcm_inside_the_circle_is_left_alone():
+    assert np.array_equal(dcm_leash_excess([0.03, 0.04], [0.0, 0.0], 0.05), np.zeros(2))
+
+
+def test_the_dcm_excess_is_the_distance_past_the_circle_along_the_error():
+    # 13 cm away along (12, 5) / 13: 8 cm past a 5 cm circle
+    excess = dcm_leash_excess([0.22, 0.06], [0.1, 0.01], 0.05)
+    np.testing.assert_allclose(excess, np.array([0.12, 0.05]) * 0.08 / 0.13, atol=1e-12)
+
+
+def test_the_velocity_shift_moves_the_dcm_by_the_excess_and_keeps_the_positions():
+    com_row = LinearModel('three_mass', (6.0, 20.0, 6.0), (0.4, 0.9, 0.4), 9.81).com_row
+    omega = 5.0
+    command = state((0.01, -0.02))
+    before = command.copy()
+    shift_velocities(command, np.array([0.03, -0.01]), omega)
+
+    def dcm(x):
+        return x @ com_row + x @ np.roll(com_row, 1) / omega
+    np.testing.assert_allclose(dcm(before) - dcm(command), [0.03, -0.01], atol=1e-12)
+    for mass in (LEFT_LEG, TORSO, RIGHT_LEG):
+        np.testing.assert_allclose(command[:, state_index(mass, VELOCITY)]
+                                   - before[:, state_index(mass, VELOCITY)], [-0.15, 0.05])
+        for order in (POSITION, ACCELERATION):
+            assert np.array_equal(command[:, state_index(mass, order)],
+                                  before[:, state_index(mass, order)])
+
+
+@pytest.mark.parametrize('radius', [0.0, -0.01, math.nan, math.inf])
+def test_bad_dcm_leash_radii_are_refused(radius):
+    with pytest.raises(InputError, match='radius'):
+        dcm_leash_excess([0.0, 0.0], [0.1, 0.0], radius)
+
+
+@pytest.mark.parametrize('commanded, measured', [([0.0, math.nan], [0.0, 0.0]),
+                                                 ([0.0, 0.0], [math.inf, 0.0]),
+                                                 ([0.0, 0.0, 0.0], [0.0, 0.0])])
+def test_bad_dcms_are_refused(commanded, measured):
+    with pytest.raises(InputError):
+        dcm_leash_excess(commanded, measured, 0.05)

@@ -15,11 +15,13 @@ def test_every_stabilizer_term_is_copied_into_the_message():
         foot_contacts=(False, True), ankle_offsets=np.full((2, 2), 0.01),
         ankle_conformance=np.array([[0.0, 0.05], [-0.02, 0.0]]),
         vertical_offsets=np.array([0.001, -0.001]), landing_modes=('swinging', 'support'),
-        trunk_tilt=np.array([0.12, -0.03]), command_leash_shift=np.array([0.0, 0.031]))
+        trunk_tilt=np.array([0.12, -0.03]), command_leash_shift=np.array([0.0, 0.031]),
+        dcm_leash_shift=np.array([-0.012, 0.004]))
     diag = ControllerDiagnostics()
     stabilizer_terms(diag, output)
     assert list(diag.trunk_tilt) == [0.12, -0.03]
     assert list(diag.command_leash_shift) == [0.0, 0.031]
+    assert list(diag.dcm_leash_shift) == [-0.012, 0.004]
     assert list(diag.dcm_error) == [0.004, -0.05]
     assert list(diag.ankle_conformance) == [0.0, 0.05, -0.02, 0.0]
     assert list(diag.foot_torque_errors) == [0.0, 1.0, 2.0, 3.0]

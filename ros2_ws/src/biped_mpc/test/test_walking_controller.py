@@ -14,6 +14,7 @@ from biped_mpc.errors import ConfigError, InputError
 from biped_mpc.ik_targets import feet_targets_from_masses
 from biped_mpc.leg_ik import AnalyticLegIk
 from biped_mpc.linear_model import LEFT_LEG, POSITION, RIGHT_LEG, state_index, TORSO
+from biped_mpc.lipm_model import LipmParams
 from biped_mpc.qp_backend import QpSolution, QpStatus
 from biped_mpc.qp_backends import DaqpBackend
 from biped_mpc.stance_feet import on_support
@@ -240,6 +241,41 @@ def test_the_command_leash_brings_the_commanded_hip_to_a_pushed_robot(robot, ref
     # standing still, the MPC moves the commanded hip by micrometres in one period
     assert hips[0.0][1] == pytest.approx(0.0, abs=1e-3)
     assert hips[0.02][1] == pytest.approx(-0.03, abs=1e-3)
+
+
+def test_an_adjusted_walk_leashes_the_commanded_dcm_to_the_measured_one(robot, reference, ik):
+    """A robot pushed sideways at 0.5 m/s: once the walk is adjusted the MPC starts from a DCM
+    on the 5 cm circle around the measured one (through the velocities, the positions as
+    without); before, the command keeps its own DCM, 9.6 cm from the measured one."""
+    moved = np.array([0.0, -0.01, 0.0])
+    lipm = LipmParams.from_three_mass(robot.masses)
+    omega = math.sqrt(lipm.gravity / lipm.com_height)
+    outs = {}
+    for adjusted in (False, True):
+        controller = WalkingController(WalkingControllerParams(robot=robot,
+                                                               adjusted_walk_dcm_leash=0.05))
+        controller.walk_adjusted = adjusted
+        controller.reset(0.0, standing_feedback(ik))
+        controller.step(0.0, reference.sample(0.0, N_SAMPLES, DT), standing_feedback(ik))
+        outs[adjusted] = controller.step(DT, reference.sample(DT, N_SAMPLES, DT),
+                                         standing_feedback(ik, standing_pelvis() + moved))
+    masses = controller.model.masses
+    # the measured centre of mass: legs midway between their soles and the moved hip
+    com = (masses[1] + 0.5 * (masses[0] + masses[2])) / sum(masses) * moved[:2]
+    measured = com + (com / DT) / omega
+    row = controller.model.com_row
+
+    def dcm(state):
+        return state @ row + state @ np.roll(row, 1) / omega
+    assert np.linalg.norm(dcm(outs[False].state) - measured) > 0.08
+    np.testing.assert_allclose(outs[False].dcm_leash_shift, 0.0)
+    assert np.linalg.norm(dcm(outs[True].state) - measured) == pytest.approx(0.05, abs=1e-9)
+    assert np.linalg.norm(outs[True].dcm_leash_shift) == pytest.approx(
+        np.linalg.norm(dcm(outs[False].state) - measured) - 0.05, abs=1e-6)
+    for mass in (LEFT_LEG, TORSO, RIGHT_LEG):
+        column = state_index(mass, POSITION)
+        np.testing.assert_allclose(outs[True].state[:, column], outs[False].state[:, column],
+                                   atol=1e-12)
 
 
 def test_failed_qp_falls_back_to_the_previous_plan(controller, reference, ik, monkeypatch):

@@ -114,6 +114,7 @@ class ReferenceSession:
         self._params = params
         self._adjuster = adjuster if adjuster is not None and adjuster.params.enabled else None
         self._adjustments = 0
+        self._walk_adjustments = 0
         self._plan: Optional[_Plan] = None
         self._reference: Optional[WalkingReference] = None
         self._reference_plan_id: Optional[int] = None
@@ -143,6 +144,11 @@ class ReferenceSession:
         """Steps the online adjuster moved in this session (every walk)."""
         return self._adjustments
 
+    @property
+    def walk_adjustments(self) -> int:
+        """Steps the online adjuster moved in the walk under way (0 while standing)."""
+        return self._walk_adjustments
+
     def adjust(self, t: float, com: Sequence[float], dcm: Sequence[float],
                zmp: Optional[Sequence[float]] = None) -> Optional[AppliedAdjustment]:
         """Let the online step adjuster answer the balance estimated at t.
@@ -170,6 +176,7 @@ class ReferenceSession:
             return None
         self._reference = output.reference
         self._adjustments += 1
+        self._walk_adjustments += 1
         swing = swing_step_at(before, t)
         index = swing.step + 2
         self._adjusted = (index, output.reference.footsteps[index])
@@ -254,6 +261,7 @@ class ReferenceSession:
         self._walk_start = walk_start
         self._reference_plan_id = None
         self._changes_due, self._adjusted = [], None
+        self._walk_adjustments = 0
         if self._plan is not None and self._plan.plan_id != self._last_walked_plan_id:
             self._build()
             return True
@@ -263,6 +271,7 @@ class ReferenceSession:
         """The robot stands again; the reference keeps holding its final pose."""
         self._walk_start = None
         self._changes_due, self._adjusted = [], None
+        self._walk_adjustments = 0
 
     def window(self, t: float, n: int, dt: float,
                standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:

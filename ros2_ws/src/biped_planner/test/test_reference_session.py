@@ -86,9 +86,37 @@ def test_the_session_moves_the_step_under_way_and_reports_what_moved():
     reference = session.reference
     assert adjustment.footsteps == tuple(reference.footsteps)
     assert session.plan_revision == reference.revision >= 1 and session.adjustments == 1
+    assert session.walk_adjustments == 1
     single = reference.single_support_at(1.6)
     assert adjustment.touchdown == pytest.approx(reference.phases[single].t_end)
     assert ReferenceSession(ReferenceParams()).adjust(1.6, hip, dcm) is None  # no adjuster
+
+
+def test_the_walk_adjustments_count_the_walk_under_way_and_restart_with_a_walk():
+    """walk_adjustments tells the controller the walk's plan follows the measured DCM: it
+    counts the adjusted steps of the walk under way and is 0 again once the robot stands and
+    for the next walk (the session's total goes on)."""
+    from biped_planner.footsteps import straight_footsteps
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import ReferenceSession
+    from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
+    from biped_planner.step_timing import StepTiming
+    steps = straight_footsteps(6, 0.1, 0.2)
+    bare = OnlineStepAdjusterParams(dcm_deadband=0.0, ankle_authority=0.0,
+                                    location_threshold=1e-6, timing_threshold=1e-6)
+    session = ReferenceSession(ReferenceParams(), OnlineStepAdjuster(bare))
+    session.set_plan(7, steps, StepTiming(0.4, 0.1), 0.0)
+    session.start_walk(0.0)
+    assert session.walk_adjustments == 0
+    for t in (1.6, 2.6):  # the single supports of steps 1 and 3
+        hip, dcm = session.reference.lipm.state_at(t)
+        assert session.adjust(t, hip, dcm + [0.0, 0.06 * (-1) ** int(t)]) is not None
+    assert session.walk_adjustments == 2 and session.adjustments == 2
+    session.end_walk()
+    assert session.walk_adjustments == 0 and session.adjustments == 2
+    session.set_plan(8, straight_footsteps(4, 0.1, 0.2), StepTiming(0.4, 0.1), 10.0)
+    session.start_walk(10.0)
+    assert session.walk_adjustments == 0 and session.adjustments == 2
 
 
 def test_a_planner_change_without_the_newest_adjusted_landing_is_dropped_not_spliced():

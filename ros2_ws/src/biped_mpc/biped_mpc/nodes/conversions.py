@@ -75,6 +75,7 @@ def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
     diag.landing_modes = [str(m) for m in output.landing_modes]
     diag.trunk_tilt = floats(output.trunk_tilt)
     diag.command_leash_shift = floats(output.command_leash_shift)
+    diag.dcm_leash_shift = floats(output.dcm_leash_shift)
 
 
 def deadline_terms(diag: ControllerDiagnostics, monitor) -> None:

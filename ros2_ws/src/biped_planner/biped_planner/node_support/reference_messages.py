@@ -29,12 +29,14 @@ FIRST_LANDING_COLUMN = REFERENCE_COLUMNS.index('left_landing_min_x')  # landing 
 
 
 def reference_trajectory_msg(window, plan_id: int, dt: float, stamp,
-                             plan_revision: int = 0) -> ReferenceTrajectory:
+                             plan_revision: int = 0,
+                             walk_adjustments: int = 0) -> ReferenceTrajectory:
     """A ReferenceWindow as the flat arrays of biped_msgs/ReferenceTrajectory."""
     msg = ReferenceTrajectory()
     msg.header.stamp = stamp
     msg.plan_id = int(plan_id)
     msg.plan_revision = int(plan_revision)
+    msg.walk_adjustments = int(walk_adjustments)
     msg.dt = float(dt)
     n = len(window.t)
     table = np.empty((len(REFERENCE_COLUMNS), n))

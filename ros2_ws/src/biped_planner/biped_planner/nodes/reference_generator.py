@@ -536,7 +536,8 @@ class ReferenceGeneratorNode(Node):
         if window is not None:
             msg = reference_trajectory_msg(window, self._session.plan_id, self._dt,
                                            Time(nanoseconds=t_ns).to_msg(),
-                                           self._session.plan_revision)
+                                           self._session.plan_revision,
+                                           self._session.walk_adjustments)
             msg.header.frame_id = self._frame
             self._pub.publish(msg)
             self._sent_ns = t_ns
