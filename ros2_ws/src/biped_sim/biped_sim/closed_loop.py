@@ -181,7 +181,7 @@ class ClosedLoopRunner:
             references_done = clock()
             feedback = self._feedback(readings, params.pelvis_source)
             # a source with a step adjuster (AdjustedWalk) counts its revisions
-            self.controller.walk_adjusted = getattr(self.source, 'revision', 0) > 0
+            self.controller.walk_adjustments = getattr(self.source, 'revision', 0)
             output = self.controller.step(t, window, feedback)
             controller_done = clock()
             next_readings = self.actuator.apply(output)

@@ -17,8 +17,8 @@ balance_estimate (biped_msgs/BalanceEstimate: the DCM of the measured state, at 
 each cycle, before its command, while it has a subscriber; the reference generator's step
 adjuster answers it; biped_mpc.balance.measured_dcm, with the odometry's pelvis only).
 
-A reference_trajectory with walk_adjustments > 0 (the step adjuster moved a step of the walk)
-leashes the MPC's commanded DCM to the measured one (adjusted_walk_dcm_leash).
+A reference_trajectory whose walk_adjustments grew (the step adjuster moved a step of the walk)
+brings the MPC's commanded DCM to the measured one, once (adjusted_walk_dcm_leash).
 
 Lockstep: a period is computed once its reference (stamped with the same sensor time) is in, or
 after reference_wait of wall time without it.
@@ -242,7 +242,7 @@ class MpcControllerNode(Node):
             self._reject('reference_trajectory', error)
             return
         self._supervisor.set_reference(reference)
-        self._controller.walk_adjusted = msg.walk_adjustments > 0
+        self._controller.walk_adjustments = msg.walk_adjustments
         self._reference_arrival = time.monotonic()
         self._try_cycle()
 
