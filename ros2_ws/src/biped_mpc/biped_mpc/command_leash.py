@@ -11,12 +11,13 @@ pushed robot back by at most the box's half size, the stabilizer and the step ad
 the rest. The sole is half as wide as it is long, so the box may be narrower across the
 heading than along it; a side of 0 leaves that axis unbounded.
 
-Once the step adjuster has moved a step of the walk, the plan follows the measured DCM; an MPC
-that keeps its own unpushed DCM then drives its model against the adjusted footholds (a pushed
-robot's commanded hip stays behind it, and with the ZMP bounded to the step placed ahead the
-model can only fall back). The DCM leash keeps the commanded DCM within a radius of the measured
-one by changing every mass's commanded velocity alike: the positions stay, so the targets do not
-jump, and the model's divergent motion is the robot's.
+When the step adjuster moves a step, the plan follows the measured DCM; an MPC that keeps its
+own unpushed DCM then drives its model against the adjusted footholds (a pushed robot's
+commanded hip stays behind it, and with the ZMP bounded to the step placed ahead the model can
+only fall back). The DCM leash brings the commanded DCM within a radius of the measured one by
+changing every mass's commanded velocity alike: the positions stay, so the targets do not jump,
+and the model's divergent motion is the robot's. The controller applies it once per adjustment:
+every cycle, command and robot chase each other through the stiff servos.
 """
 import math
 
