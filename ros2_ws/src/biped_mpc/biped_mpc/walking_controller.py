@@ -373,9 +373,8 @@ class WalkingController:
             # graph: 0.6 m of DCM in 0.2 s). After the stance-leg projection, so that the MPC
             # and the stabilizer start from the DCM on the leash.
             self._answered_adjustments = self.walk_adjustments
-            commanded_dcm = (command @ self._com_row
-                             + command @ self._com_velocity_row / self._omega)
-            dcm_shift = dcm_leash_excess(commanded_dcm, dcm, params.adjusted_walk_dcm_leash)
+            dcm_shift = dcm_leash_excess(self._dcm_of(command), dcm,
+                                         params.adjusted_walk_dcm_leash)
             shift_velocities(command, dcm_shift, self._omega)
         kalman = self.estimator.correct(outputs)
         if params.stance_leg_projection:
@@ -390,6 +389,10 @@ class WalkingController:
         else:
             state = command.copy()
         return _Estimate(state, kalman, outputs, shift, com, dcm, dcm_shift)
+
+    def _dcm_of(self, state: np.ndarray) -> np.ndarray:
+        """The DCM (2,) of a model state (2, 9): centre of mass + its velocity / omega."""
+        return state @ self._com_row + state @ self._com_velocity_row / self._omega
 
     def _measured_dcm(self, outputs: np.ndarray, hip: np.ndarray) -> tuple:
         """The measured centre of mass and DCM (2,) each, once per cycle.
@@ -464,9 +467,7 @@ class WalkingController:
         reads the ZMP the stabilizer itself moves, and fed back through the foot damping it
         oscillated standing.
         """
-        reference = StabilizerReference(
-            zmp=command @ self._zmp_row,
-            dcm=command @ self._com_row + command @ self._com_velocity_row / self._omega)
+        reference = StabilizerReference(zmp=command @ self._zmp_row, dcm=self._dcm_of(command))
         com = np.array([estimate.com[0], estimate.com[1], self._com_height])
         planned = None
         if self.params.stabilizer_planned_support and references is not None:
