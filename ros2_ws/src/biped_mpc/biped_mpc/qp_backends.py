@@ -296,3 +296,54 @@ def make_backend(name: str, hessian: np.ndarray, constraints: np.ndarray,
     if name not in _BACKEND_CLASSES:
         raise ConfigError(f'qp backend must be one of {BACKENDS}, got {name!r}')
     return _BACKEND_CLASSES[name](hessian, constraints, variable_lower, variable_upper, clock)
+
+
+def solve_once(name: str, hessian: np.ndarray, linear: np.ndarray, constraints: np.ndarray,
+               lower: np.ndarray, upper: np.ndarray,
+               clock: Callable[[], float] = time.perf_counter) -> QpSolution:
+    """Solve a QP with row constraints only once, with nothing kept for a next solve.
+
+    For a QP rebuilt every cycle (the wrench distribution's), a backend's checks and
+    factorisations (symmetry, Cholesky, H^-1) cost more than the solve. 'daqp' gets only the
+    solver calls of DaqpBackend and its checks (finite stand-ins for infinite bounds, the rows
+    checked against the solution; a cold start solved again would give the same point, so a
+    violation is reported INACCURATE at once); every other backend is built and solved once.
+
+    :param name: one of BACKENDS
+    :param hessian: H (n, n), symmetric positive definite
+    :param linear: f (n,)
+    :param constraints: A (m, n)
+    :param lower: row lower bounds (m,), -inf allowed
+    :param upper: row upper bounds (m,), +inf allowed
+    :param clock: seconds clock bracketing the solver call
+    :return: the solution and its status
+    :raises ConfigError: for an unknown name (other backends: bad matrices)
+    :raises SolverUnavailableError: if the solver's package is not installed
+    """
+    if name != DaqpBackend.name:
+        return make_backend(name, hessian, constraints, np.zeros(0), np.zeros(0),
+                            clock).solve(linear, lower, upper)
+    daqp = import_solver('daqp', 'daqp')
+    constraints = np.ascontiguousarray(constraints, dtype=float)
+    n_rows, n_variables = constraints.shape
+    # the calls of DaqpBackend's setup and first solve, so that both give the same x to the bit
+    model = daqp.Model()
+    model.setup(np.ascontiguousarray(hessian, dtype=float), np.zeros(n_variables), constraints,
+                np.full(n_rows, _DAQP_INFINITY), np.full(n_rows, -_DAQP_INFINITY),
+                np.zeros(n_rows, dtype=np.int32))
+    start = clock()
+    model.update(f=np.asarray(linear, dtype=float), bupper=np.minimum(upper, _DAQP_INFINITY),
+                 blower=np.maximum(lower, -_DAQP_INFINITY))
+    x, _, exitflag, info = model.solve()
+    elapsed = clock() - start
+    iterations = int(info.get('iterations', -1))
+    if exitflag in _DAQP_OPTIMAL:
+        x = np.asarray(x, dtype=float)
+        rows = constraints @ x
+        if max(np.maximum(lower - rows, rows - upper).max(initial=0.0), 0.0) <= \
+                _FEASIBILITY_TOLERANCE:
+            return QpSolution(x, QpStatus.OPTIMAL, iterations, elapsed)
+        return QpSolution(np.zeros(len(linear)), QpStatus.INACCURATE, iterations, elapsed)
+    status = {_DAQP_INFEASIBLE: QpStatus.INFEASIBLE,
+              _DAQP_ITERATION_LIMIT: QpStatus.ITERATION_LIMIT}.get(exitflag, QpStatus.FAILED)
+    return QpSolution(np.zeros(len(linear)), status, iterations, elapsed)

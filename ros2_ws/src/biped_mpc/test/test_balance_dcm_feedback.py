@@ -134,6 +134,16 @@ def test_projection_matches_brute_force(seed):
         assert project_into_polygon(projected, polygon)[1] or not was_inside
 
 
+@pytest.mark.parametrize('seed', range(5))
+def test_convex_hull_matches_qhull(seed):
+    from scipy.spatial import ConvexHull
+    points = np.random.default_rng(seed).uniform(-1.0, 1.0, size=(12, 2))
+    hull = convex_hull(points)
+    expected = points[ConvexHull(points).vertices]  # counter-clockwise, another start
+    start = int(np.flatnonzero(np.all(expected == hull[0], axis=1))[0])
+    np.testing.assert_array_equal(hull, np.roll(expected, -start, axis=0))
+
+
 def test_degenerate_polygons():
     np.testing.assert_allclose(project_into_polygon([1.0, 1.0], [[0.0, 0.0]])[0], [0.0, 0.0])
     segment = [[0.0, 0.0], [1.0, 0.0]]

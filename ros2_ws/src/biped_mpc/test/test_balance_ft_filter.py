@@ -54,6 +54,25 @@ def test_foot_in_the_air_reads_38_newtons_and_compensates_to_zero():
     assert f_s[2] == pytest.approx(150.0 - MASS * 9.81)
 
 
+@pytest.mark.parametrize('seed', range(4))
+def test_the_cross_products_are_numpy_s_to_the_bit(seed):
+    # the module computes its cross products by hand for speed: a deterministic trial must not
+    # move by an ulp against np.cross
+    rng = np.random.default_rng(seed)
+    force, torque, sensor, com, acceleration, point = rng.normal(size=(6, 3))
+    _, compensated = compensate_foot_inertia(force, torque, sensor, MASS, com, acceleration,
+                                             point)
+    inertial = MASS * (acceleration - GRAVITY)
+    np.testing.assert_array_equal(compensated, torque + np.cross(sensor - point, force)
+                                  + np.cross(com - point, inertial))
+    forces, torques, points = rng.normal(size=(3, 2, 3))
+    _, net = net_wrench(forces, torques, points, point)
+    np.testing.assert_array_equal(net, (torques + np.cross(points - point, forces)).sum(axis=0))
+    force[2] = abs(force[2]) + 1.0
+    np.testing.assert_array_equal(cop_of_wrench(force, torque, point),
+                                  point + np.cross([0.0, 0.0, 1.0], torque) / force[2])
+
+
 def test_cop_of_one_foot_by_hand():
     sole = np.array([0.1, 0.2, 0.0])
     cop = cop_of_wrench([0.0, 0.0, 100.0], [5.0, -2.0, 0.3], sole)

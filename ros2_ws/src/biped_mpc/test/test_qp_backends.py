@@ -4,7 +4,7 @@ import pytest
 
 from biped_mpc.errors import ConfigError
 from biped_mpc.qp_backend import QpStatus
-from biped_mpc.qp_backends import BACKENDS, make_backend
+from biped_mpc.qp_backends import BACKENDS, make_backend, solve_once
 
 CONSTRAINED = [name for name in BACKENDS if name != 'unconstrained']
 # min 1/2 |x - c|^2 s.t. x0 + x1 <= 1, x0 - x1 >= -inf, 0 <= x2 (variable bound)
@@ -96,3 +96,41 @@ def test_a_solve_without_active_constraints_prints_nothing(backend, capfd):
     print('after', flush=True)
     assert solution.status == QpStatus.OPTIMAL
     assert capfd.readouterr().out == 'before\nafter\n'
+
+
+@pytest.mark.parametrize('backend', ['daqp', 'quadprog'])
+@pytest.mark.parametrize('target', [(2.0, 1.0, -1.0), (0.1, 0.2, 0.3), (5.0, -3.0, 2.0)])
+def test_solve_once_has_the_closed_form_solution(backend, target):
+    # the variable bound x2 >= 0 as a third row
+    rows = np.vstack([ROWS, [0.0, 0.0, 1.0]])
+    solution = solve_once(backend, HESSIAN, -np.array(target), rows,
+                          np.array([-np.inf, -np.inf, 0.0]), np.array([1.0, np.inf, np.inf]))
+    assert solution.status == QpStatus.OPTIMAL
+    np.testing.assert_allclose(solution.x, known_solution(target), atol=1e-9)
+
+
+@pytest.mark.parametrize('seed', range(5))
+def test_solve_once_gives_the_backend_s_point_to_the_bit(seed):
+    # the wrench distribution solves once per cycle: the one-shot path must not move a
+    # deterministic trial by an ulp
+    rng = np.random.default_rng(seed)
+    factor = rng.normal(size=(12, 12))
+    hessian = factor @ factor.T + 0.1 * np.eye(12)
+    rows = rng.normal(size=(22, 12))
+    lower = np.where(rng.random(22) < 0.3, rng.normal(size=22) - 1.0, -np.inf)
+    upper = np.where(rng.random(22) < 0.5, rng.normal(size=22) + 1.0, np.inf)
+    linear = rng.normal(size=12) * 10.0
+    once = solve_once('daqp', hessian, linear, rows, lower, upper)
+    built = make_backend('daqp', hessian, rows, np.zeros(0), np.zeros(0)).solve(linear, lower,
+                                                                                upper)
+    assert once.status == built.status
+    np.testing.assert_array_equal(once.x, built.x)
+
+
+def test_solve_once_reports_infeasible_rows():
+    rows = np.array([[1.0, 0.0], [1.0, 0.0]])
+    for backend in ('daqp', 'quadprog'):
+        solution = solve_once(backend, np.eye(2), np.zeros(2), rows, np.array([1.0, -np.inf]),
+                              np.array([np.inf, 0.0]))
+        assert solution.status != QpStatus.OPTIMAL
+        assert np.all(solution.x == 0.0)

@@ -33,24 +33,27 @@ def convex_hull(points) -> np.ndarray:
     :param points: (n, 2) points, n >= 1 (m)
     :return: (k, 2) hull vertices without collinear points; 1 or 2 rows when degenerate
     """
-    unique = np.unique(np.asarray(points, dtype=float).reshape(-1, 2), axis=0)
+    # Python floats: a hull of a few feet corners is built every cycle, and numpy's per-call
+    # overhead (np.unique alone) cost more than the chain
+    unique = sorted(set(map(tuple, np.asarray(points, dtype=float).reshape(-1, 2).tolist())))
     if len(unique) <= 2:
-        return unique
+        return np.array(unique, dtype=float).reshape(-1, 2)
 
     def half(sequence):
         chain = []
         for p in sequence:
-            while len(chain) >= 2 and _cross(chain[-1] - chain[-2], p - chain[-2]) <= 0.0:
+            while len(chain) >= 2 and _turn(chain[-2], chain[-1], p) <= 0.0:
                 chain.pop()
             chain.append(p)
         return chain
 
     lower, upper = half(unique), half(unique[::-1])
-    return np.array(lower[:-1] + upper[:-1])
+    return np.array(lower[:-1] + upper[:-1], dtype=float)
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> float:
-    return float(a[0] * b[1] - a[1] * b[0])
+def _turn(origin, a, b) -> float:
+    """Cross product of (a - origin) and (b - origin): > 0 for a left turn."""
+    return (a[0] - origin[0]) * (b[1] - origin[1]) - (a[1] - origin[1]) * (b[0] - origin[0])
 
 
 def _closest_on_segment(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -74,9 +77,13 @@ def project_into_polygon(point, vertices) -> Tuple[np.ndarray, bool]:
     if vertices.ndim != 2 or vertices.shape[1] != 2 or len(vertices) == 0:
         raise InputError(f'vertices must have shape (n, 2) with n >= 1, got {vertices.shape}')
     hull = convex_hull(finite_array('vertices', vertices, vertices.shape))
-    edges = list(zip(hull, np.roll(hull, -1, axis=0)))
-    if len(hull) >= 3 and all(_cross(b - a, point - a) >= -_INSIDE_TOLERANCE for a, b in edges):
+    corners = hull.tolist()
+    inside_point = point.tolist()
+    if len(corners) >= 3 and all(
+            _turn(a, b, inside_point) >= -_INSIDE_TOLERANCE
+            for a, b in zip(corners, corners[1:] + corners[:1])):
         return point.copy(), True
+    edges = list(zip(hull, np.roll(hull, -1, axis=0)))
     candidates = [_closest_on_segment(point, a, b) for a, b in edges]
     best = min(candidates, key=lambda q: float((q - point) @ (q - point)))
     return best, bool(np.allclose(best, point, atol=1e-12, rtol=0.0))
