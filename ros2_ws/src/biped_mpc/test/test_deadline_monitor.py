@@ -48,3 +48,16 @@ def test_no_period_yet_reports_nan_quantiles_and_no_misses():
 def test_bad_settings_are_refused(deadline, window):
     with pytest.raises(ConfigError):
         DeadlineMonitor(deadline, window)
+
+
+def test_quantiles_follow_a_small_window_with_repeated_values():
+    rng = np.random.default_rng(5)
+    values = rng.integers(0, 4, 60) * 0.001   # many equal latencies leave and enter
+    monitor = DeadlineMonitor(0.02, window=7)
+    for k, x in enumerate(values):
+        monitor.record(float(x))
+        window = values[max(0, k - 6):k + 1]
+        report = monitor.report()
+        assert report.p50 == pytest.approx(np.percentile(window, 50), abs=1e-15)
+        assert report.p99 == pytest.approx(np.percentile(window, 99), abs=1e-15)
+        assert report.max == window.max()
