@@ -92,9 +92,7 @@ class DaqpBackend(QpBackend):
             self.reset()
             return self._failure(QpStatus.INACCURATE, iterations, elapsed)
         self.reset()
-        status = {_DAQP_INFEASIBLE: QpStatus.INFEASIBLE,
-                  _DAQP_ITERATION_LIMIT: QpStatus.ITERATION_LIMIT}.get(exitflag, QpStatus.FAILED)
-        return self._failure(status, iterations, elapsed)
+        return self._failure(_daqp_failure(exitflag), iterations, elapsed)
 
 
 class QuadprogBackend(QpBackend):
@@ -344,6 +342,10 @@ def solve_once(name: str, hessian: np.ndarray, linear: np.ndarray, constraints: 
                 _FEASIBILITY_TOLERANCE:
             return QpSolution(x, QpStatus.OPTIMAL, iterations, elapsed)
         return QpSolution(np.zeros(len(linear)), QpStatus.INACCURATE, iterations, elapsed)
-    status = {_DAQP_INFEASIBLE: QpStatus.INFEASIBLE,
-              _DAQP_ITERATION_LIMIT: QpStatus.ITERATION_LIMIT}.get(exitflag, QpStatus.FAILED)
-    return QpSolution(np.zeros(len(linear)), status, iterations, elapsed)
+    return QpSolution(np.zeros(len(linear)), _daqp_failure(exitflag), iterations, elapsed)
+
+
+def _daqp_failure(exitflag: int) -> QpStatus:
+    """The status of a DAQP exit flag that is not optimal."""
+    return {_DAQP_INFEASIBLE: QpStatus.INFEASIBLE,
+            _DAQP_ITERATION_LIMIT: QpStatus.ITERATION_LIMIT}.get(exitflag, QpStatus.FAILED)
