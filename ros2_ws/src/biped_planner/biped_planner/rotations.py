@@ -8,6 +8,14 @@ import math
 import numpy as np
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b of 3-vectors or of (n, 3) rows: np.cross's products and differences, without its
+    dispatch, which costs more than the product on a few vectors (sensing, F/T filtering)."""
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+
 def quaternion_to_matrix(quaternion) -> np.ndarray:
     """Rotation matrix of a unit quaternion.
 

@@ -56,3 +56,10 @@ def test_wrap_angle(angle, wrapped):
                                         (-0.2, 0.2, 0.0)])
 def test_mean_angle_takes_the_short_arc(a, b, mean):
     assert rotations.wrap_angle(rotations.mean_angle(a, b) - mean) == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize('seed', range(3))
+def test_cross_is_numpy_s_to_the_bit(seed):
+    a, b = np.random.default_rng(seed).normal(size=(2, 5, 3))
+    np.testing.assert_array_equal(rotations.cross(a, b), np.cross(a, b))
+    np.testing.assert_array_equal(rotations.cross(a[0], b[0]), np.cross(a[0], b[0]))

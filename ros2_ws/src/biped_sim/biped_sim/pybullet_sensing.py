@@ -15,7 +15,7 @@ from typing import Optional
 
 import numpy as np
 
-from biped_planner.rotations import quaternion_to_matrix
+from biped_planner.rotations import cross, quaternion_to_matrix
 
 from biped_sim.pybullet_robot_index import RobotIndex
 from biped_sim.sensors import (BaseState, FootForceTorque, ImuReading, JointReadings,
@@ -26,13 +26,6 @@ try:
 except ImportError as error:  # pragma: no cover - pybullet is a hard dependency of biped_sim
     raise ImportError('biped_sim.pybullet_sensing needs pybullet (Python <= 3.11 wheels): '
                       'pip install pybullet==3.2.7') from error
-
-
-def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross product of 3-vectors (or rows of (n, 3) arrays); much faster than np.cross."""
-    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
 
 
 class PyBulletSensing:

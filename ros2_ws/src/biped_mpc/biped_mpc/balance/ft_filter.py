@@ -8,16 +8,9 @@ import numpy as np
 from biped_mpc.errors import ConfigError
 from biped_mpc.validation import check_period, finite_array
 from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.rotations import cross
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b of 3-vectors or of (k, 3) rows: np.cross's products and differences, without
-    its dispatch (a few us per call, several calls per foot and cycle)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
 def compensate_foot_inertia(sensor_force, sensor_torque, sensor_position, foot_mass: float,
@@ -53,9 +46,9 @@ def compensate_foot_inertia(sensor_force, sensor_torque, sensor_position, foot_m
     point = np.asarray(point, dtype=float)
     force = np.asarray(sensor_force, dtype=float) + inertial
     torque = (np.asarray(sensor_torque, dtype=float)
-              + _cross(np.asarray(sensor_position, dtype=float) - point,
+              + cross(np.asarray(sensor_position, dtype=float) - point,
                        np.asarray(sensor_force, dtype=float))
-              + _cross(np.asarray(foot_com, dtype=float) - point, inertial))
+              + cross(np.asarray(foot_com, dtype=float) - point, inertial))
     return force, torque
 
 
@@ -77,7 +70,7 @@ def cop_of_wrench(force, torque, point, normal=(0.0, 0.0, 1.0),
     pressure = float(normal @ np.asarray(force, dtype=float))
     if pressure < min_force:
         return np.full(3, np.nan)
-    return np.asarray(point, dtype=float) + _cross(normal, np.asarray(torque, dtype=float)) / \
+    return np.asarray(point, dtype=float) + cross(normal, np.asarray(torque, dtype=float)) / \
         pressure
 
 
@@ -92,7 +85,7 @@ def net_wrench(forces, torques, points, point) -> Tuple[np.ndarray, np.ndarray]:
     """
     forces = np.asarray(forces, dtype=float).reshape(-1, 3)
     arms = np.asarray(points, dtype=float).reshape(-1, 3) - np.asarray(point, dtype=float)
-    torque = np.asarray(torques, dtype=float).reshape(-1, 3) + _cross(arms, forces)
+    torque = np.asarray(torques, dtype=float).reshape(-1, 3) + cross(arms, forces)
     return forces.sum(axis=0), torque.sum(axis=0)
 
 
