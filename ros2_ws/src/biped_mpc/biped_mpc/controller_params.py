@@ -180,6 +180,22 @@ class WalkingControllerParams:
         0.04, 'lag of the ground conformance (s)', low=0.001, high=10.0)
     ground_conformance_angle_limit: float = parameter(
         0.3, 'largest ground conformance offset per axis (rad)', low=0.0, high=0.6)
+    partial_foothold: bool = parameter(
+        False, 'a loaded sole seen rotating about a line under it (a tile edge) is cut along '
+        'that line and the stabilizer keeps its CoP on the side that has ground '
+        '(biped_mpc.balance.partial_foothold)')
+    partial_foothold_rotation_threshold: float = parameter(
+        0.5, 'sole angular velocity about a horizontal axis that counts as rotating (rad/s)',
+        low=0.01, high=100.0)
+    partial_foothold_detection_time: float = parameter(
+        0.04, 'time the rotation must last before the sole is cut (s)', low=0.0, high=1.0)
+    partial_foothold_min_force: float = parameter(
+        50.0, 'normal force below which a sole is neither cut nor proves ground (N)', low=0.0,
+        high=1e4)
+    partial_foothold_min_area_fraction: float = parameter(
+        0.2, 'smallest foothold a cut may leave, as a share of the sole', low=0.0, high=1.0)
+    partial_foothold_restore_distance: float = parameter(
+        0.01, 'a CoP measured this far beyond a cut removes it (m)', low=0.0, high=0.2)
     force_difference_gain: float = parameter(1e-4, 'foot force difference admittance '
                                              '(m/(N s))', low=0.0, high=0.01)
     force_difference_leak_rate: float = parameter(0.1, 'leak of the feet height difference '

@@ -155,3 +155,25 @@ def test_the_zmp_beyond_the_soles_is_reported_as_the_excess():
     half_width = (Stabilizer().params.distribution.sole_width
                   - 2.0 * Stabilizer().params.distribution.cop_margin) / 2.0
     assert output.zmp[1] == pytest.approx(FEET[RIGHT, 1] - half_width)
+
+
+def test_a_cut_foothold_keeps_the_desired_zmp_and_the_sole_torque_on_its_ground():
+    """The left sole alone, cut at x = 0.02 of its frame (a partial foothold, its toe over a
+    lower tile); the DCM 5 cm ahead asks for the ZMP past the cut: the support polygon (the cut
+    sole shrunk by the 1 cm CoP margin) stops it at x = 0.01, and the foot's desired CoP too."""
+    from dataclasses import replace
+    cut = [(1.0, 0.0, 0.02)]
+    weight = (MASS * 9.81, 0.0)
+    whole = measurement(normals=weight, contacts=(True, False), dcm=(0.05, 0.1))
+    stabilizer = Stabilizer()
+    free = stabilizer.update(DT, REFERENCE, whole)
+    assert free.zmp[0] > 0.05  # within the whole sole (x up to 0.09)
+    stabilizer = Stabilizer()
+    output = stabilizer.update(DT, REFERENCE, replace(whole, footholds=(cut, [])))
+    assert output.zmp[0] == pytest.approx(0.01, abs=1e-9)
+    assert output.diagnostics.zmp_clamped
+    local = output.local_wrenches[LEFT]
+    assert -local[4] / local[2] == pytest.approx(0.01, abs=2e-4)  # the foot's CoP x
+    # none for the other foot, and footholds=None is the whole sole
+    np.testing.assert_allclose(Stabilizer().update(
+        DT, REFERENCE, replace(whole, footholds=([], []))).zmp, free.zmp, atol=1e-12)

@@ -51,7 +51,8 @@ def test_zmp_on_the_left_foot_loads_it_and_keeps_the_right_at_the_minimum():
     assert result.moment_error < 0.05
 
 
-def objective_and_constraints(params, desired, point, positions, rotations, ratio):
+def objective_and_constraints(params, desired, point, positions, rotations, ratio,
+                              footholds=((), ())):
     """The problem as stated in the module docstring, built without the module's matrices."""
     weights = np.array([params.net_force_weight] * 3 + [params.net_moment_weight] * 3)
     regularization = np.array(([params.force_regularization] * 3
@@ -81,6 +82,8 @@ def objective_and_constraints(params, desired, point, positions, rotations, rati
                            params.friction * f[2] - sign * f[1],
                            half_w * f[2] - sign * tau[0], half_l * f[2] - sign * tau[1],
                            yaw * f[2] - sign * tau[2]]
+            for n_x, n_y, d in footholds[i]:  # n . cop <= d - margin, cop = (-tau_y, tau_x) / f_z
+                values.append((d - params.cop_margin) * f[2] + n_x * tau[1] - n_y * tau[0])
         return np.array(values)
 
     return objective, inequalities
@@ -111,6 +114,60 @@ def test_agrees_with_slsqp_and_quadprog(seed):
     ours = objective(result.wrenches.reshape(-1))
     assert ours <= independent.fun + 1e-6 * max(1.0, independent.fun)
     np.testing.assert_allclose(result.wrenches.reshape(-1), independent.x, atol=2e-3)
+
+
+@pytest.mark.parametrize('seed', range(4))
+def test_cut_footholds_agree_with_slsqp_and_quadprog(seed):
+    rng = np.random.default_rng(10 + seed)
+    rotations = np.array([rotation_z(yaw) for yaw in rng.uniform(-0.4, 0.4, 2)])
+    point = np.array([*rng.uniform(-0.05, 0.05, 2), 0.0])
+    desired = np.concatenate([WEIGHT + rng.uniform(-20, 20, 3), rng.uniform(-5, 5, 3)])
+    angle = rng.uniform(0.0, 2.0 * math.pi)
+    footholds = ([(math.cos(angle), math.sin(angle), rng.uniform(-0.02, 0.02))],
+                 [(1.0, 0.0, 0.0), (0.0, -1.0, 0.01)])
+    params = WrenchDistributionParams()
+    result = WrenchDistributor(params).update(SUPPORT_DOUBLE, desired[:3], desired[3:], point,
+                                              FEET, rotations, footholds=footholds)
+    reference = WrenchDistributor(WrenchDistributionParams(solver='quadprog')).update(
+        SUPPORT_DOUBLE, desired[:3], desired[3:], point, FEET, rotations, footholds=footholds)
+    np.testing.assert_allclose(result.wrenches, reference.wrenches, atol=1e-6)
+    objective, inequalities = objective_and_constraints(params, desired, point, FEET, rotations,
+                                                        result.left_ratio, footholds)
+    assert np.all(inequalities(result.wrenches.reshape(-1)) >= -1e-6)
+    # a feasible start: half the weight on each foot, its CoP inside the cut sole
+    cops = (-0.04 * np.array([math.cos(angle), math.sin(angle)]), np.array([-0.03, 0.02]))
+    start = np.concatenate([np.concatenate([desired[:3] / 2, rotations[i] @ np.array(
+        [cops[i][1], -cops[i][0], 0.0]) * desired[2] / 2]) for i in (LEFT, RIGHT)])
+    assert np.all(inequalities(start) >= 0.0)
+    independent = minimize(objective, start, method='SLSQP',
+                           constraints=[{'type': 'ineq', 'fun': inequalities}],
+                           options={'ftol': 1e-14, 'maxiter': 2000})
+    # status 8: the line search found nothing better at this ftol, i.e. it stopped at the optimum
+    assert independent.success or independent.status == 8
+    assert np.all(inequalities(independent.x) >= -1e-6)
+    assert objective(result.wrenches.reshape(-1)) <= \
+        independent.fun + 1e-6 * max(1.0, independent.fun)
+    # the shear's split between the feet is set by the 1e-5 regularisation only: SLSQP stops
+    # within a few mN of it
+    np.testing.assert_allclose(result.wrenches.reshape(-1), independent.x, atol=1e-2)
+
+
+def test_a_zmp_beyond_a_cut_lands_on_the_cut_line():
+    params = WrenchDistributionParams()
+    yaw = 0.3
+    rotations = np.array([rotation_z(yaw), np.eye(3)])
+    toe = FEET[LEFT] + rotations[LEFT] @ np.array([0.07, 0.0, 0.0])  # inside the whole sole
+    cut = (1.0, 0.0, 0.02)  # the sole keeps x <= 0.02 of its frame
+    whole = WrenchDistributor(params).update(SUPPORT_LEFT, WEIGHT, np.zeros(3), toe, FEET,
+                                             rotations)
+    np.testing.assert_allclose(whole.cops[LEFT], toe, atol=1e-4)
+    result = WrenchDistributor(params).update(SUPPORT_LEFT, WEIGHT, np.zeros(3), toe, FEET,
+                                              rotations, footholds=([cut], []))
+    assert result.status == DistributionStatus.SATURATED
+    local = rotations[LEFT].T @ (result.cops[LEFT] - FEET[LEFT])
+    # the nearest CoP the cut sole shrunk by the margin allows: x = 0.02 - margin, y = 0
+    np.testing.assert_allclose(local[:2], [cut[2] - params.cop_margin, 0.0], atol=2e-4)
+    assert result.net_force[2] == pytest.approx(WEIGHT[2], rel=1e-3)
 
 
 def test_zmp_outside_both_feet_is_a_feasible_best_effort():

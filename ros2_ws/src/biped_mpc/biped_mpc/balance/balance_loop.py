@@ -30,6 +30,7 @@ from biped_mpc.balance.foot_force_difference import FootForceDifferenceParams
 from biped_mpc.balance.ft_filter import cop_of_feet, FootWrenchFilter, FtFilterParams
 from biped_mpc.balance.ground_conformance import GroundConformance, GroundConformanceParams
 from biped_mpc.balance.hip_strategy import HipStrategy, HipStrategyParams
+from biped_mpc.balance.partial_foothold import PartialFoothold, PartialFootholdParams
 from biped_mpc.balance.stabilizer import (
     Stabilizer, StabilizerMeasurement, StabilizerOutput, StabilizerParams, StabilizerReference)
 from biped_mpc.balance.swing_landing import (
@@ -64,6 +65,9 @@ class BalanceLoopParams:
     :param hip: the hip strategy's trunk swing (its gain 0: none)
     :param ground_conformance: loaded soles take the ground's tilt (ground_conformance)
     :param conformance: its deadband, lag and limit
+    :param partial_foothold: a sole seen rotating about a line under it is cut there, and
+        the stabilizer keeps the CoP on the side that has ground (partial_foothold)
+    :param foothold: its thresholds
     """
 
     stabilizer: StabilizerParams
@@ -79,6 +83,8 @@ class BalanceLoopParams:
     hip: HipStrategyParams = HipStrategyParams()
     ground_conformance: bool = True
     conformance: GroundConformanceParams = GroundConformanceParams()
+    partial_foothold: bool = False
+    foothold: PartialFootholdParams = PartialFootholdParams()
 
     @classmethod
     def from_controller(cls, params, mass: float, com_height: float) -> 'BalanceLoopParams':
@@ -136,7 +142,15 @@ class BalanceLoopParams:
             conformance=GroundConformanceParams(
                 deadband=p.ground_conformance_deadband,
                 time_constant=p.ground_conformance_time_constant,
-                angle_limit=p.ground_conformance_angle_limit))
+                angle_limit=p.ground_conformance_angle_limit),
+            partial_foothold=p.partial_foothold,
+            foothold=PartialFootholdParams(
+                sole_length=p.sole_length, sole_width=p.sole_width,
+                rotation_threshold=p.partial_foothold_rotation_threshold,
+                detection_time=p.partial_foothold_detection_time,
+                min_force=p.partial_foothold_min_force,
+                min_area_fraction=p.partial_foothold_min_area_fraction,
+                restore_distance=p.partial_foothold_restore_distance))
 
 
 @dataclass(frozen=True)
@@ -230,6 +244,7 @@ class BalanceLoop:
         self._filters = tuple(FootWrenchFilter(params.ft) for _ in SIDES)
         self._detectors = tuple(TouchdownDetector(params.touchdown) for _ in SIDES)
         self._landings = tuple(SwingLanding(params.landing) for _ in SIDES)
+        self.footholds = tuple(PartialFoothold(params.foothold) for _ in SIDES)
         self._sensor_offset = np.array([0.0, 0.0, params.ft_sensor_height])
         self.reset(None)
 
@@ -242,6 +257,7 @@ class BalanceLoop:
         self.hip.reset()
         self.conformance.reset()
         for side in SIDES:
+            self.footholds[side].reset()
             self._filters[side].reset()
             self._detectors[side].reset(True)
         self._swings = [None, None]
@@ -296,6 +312,13 @@ class BalanceLoop:
         for side in SIDES:
             if self._swings[side] is not None and not contacts[side]:
                 self._swings[side].lifted = True
+        if self.params.partial_foothold:
+            for side in SIDES:
+                wrench = wrenches[side]
+                force = wrench.normal_force
+                cop = None if force <= 0.0 else (-wrench.local_torque[1] / force,
+                                                 wrench.local_torque[0] / force)
+                self.footholds[side].update(dt, contacts[side], force, soles[side][1], cop)
         touching = [side for side in SIDES if contacts[side]]
         zmp = np.full(2, np.nan)
         if touching:
@@ -387,7 +410,9 @@ class BalanceLoop:
         measurement = StabilizerMeasurement(
             com, dcm, sensed.wrenches, sensed.contacts, positions,
             np.array([yaw_of_matrix(soles[side][1]) for side in SIDES]), measured_mean,
-            planned_feet)
+            planned_feet,
+            tuple(list(f.cuts) for f in self.footholds) if self.params.partial_foothold
+            else None)
         output = self.stabilizer.update(dt, reference, measurement)
         modes = [PLANNED_SUPPORT, PLANNED_SUPPORT]
         for side in SIDES:

@@ -10,6 +10,7 @@ from biped_mpc.balance.foot_damping import FootDamping, FootDampingParams
 from biped_mpc.balance.foot_force_difference import (
     FootForceDifference, FootForceDifferenceParams)
 from biped_mpc.balance.ft_filter import cop_of_feet, FootWrench
+from biped_mpc.balance.partial_foothold import foothold_polygon
 from biped_mpc.balance.vertical_drift import VerticalDrift, VerticalDriftParams
 from biped_mpc.balance.wrench_distribution import (
     DistributionStatus, WrenchDistributionParams, WrenchDistributor)
@@ -87,6 +88,7 @@ class StabilizerMeasurement:
     feet_yaws: np.ndarray
     mean_sole_height: Optional[float] = None
     planned_feet: Optional[Tuple[bool, bool]] = None
+    footholds: Optional[Tuple[list, list]] = None
 
 
 @dataclass(frozen=True)
@@ -210,11 +212,13 @@ class Stabilizer:
         rotations = np.array([rotation_z(yaw) for yaw in yaws])
         p = self.params
         polygon = None
+        cuts = ([], [])
         if touching:
-            shrink = 2.0 * p.distribution.cop_margin
-            polygon = convex_hull(np.vstack([rectangle_vertices(
-                positions[side], yaws[side], p.distribution.sole_length - shrink,
-                p.distribution.sole_width - shrink) for side in touching]))
+            corners = []
+            for side in touching:
+                corners.append(self._sole_polygon(side, positions[side], yaws[side],
+                                                  rotations[side], measurement.footholds, cuts))
+            polygon = convex_hull(np.vstack(corners))
         dcm = self.dcm_feedback.update(dt, reference.dcm, measurement.dcm, reference.zmp,
                                        polygon, in_the_air)
 
@@ -229,8 +233,9 @@ class Stabilizer:
                                        omega_squared * (com[1] - dcm.zmp[1]), p.dcm.gravity])
             support = (SUPPORT_DOUBLE if len(touching) == 2
                        else SUPPORT_LEFT if touching[0] == LEFT else SUPPORT_RIGHT)
-            distribution = self.distributor.update(support, force, np.zeros(3), point,
-                                                   positions, rotations)
+            distribution = self.distributor.update(
+                support, force, np.zeros(3), point, positions, rotations,
+                footholds=cuts if measurement.footholds is not None else None)
             wrenches, local, status = (distribution.wrenches, distribution.local_wrenches,
                                        distribution.status)
             if detected:
@@ -263,4 +268,17 @@ class Stabilizer:
         excess = dcm.unclamped_zmp - dcm.zmp if dcm.clamped else np.zeros(2)
         return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics,
                                 excess)
+
+    def _sole_polygon(self, side: int, position: np.ndarray, yaw: float, rotation: np.ndarray,
+                      footholds, cuts: tuple) -> np.ndarray:
+        """A support sole shrunk by the CoP margin, in the ground plane; its usable cuts are
+        stored in cuts[side]."""
+        d = self.params.distribution
+        if footholds is None or not footholds[side]:
+            shrink = 2.0 * d.cop_margin
+            return rectangle_vertices(position, yaw, d.sole_length - shrink,
+                                      d.sole_width - shrink)
+        local, cuts[side][:] = foothold_polygon(d.sole_length, d.sole_width, footholds[side],
+                                                d.cop_margin)
+        return position[:2] + np.asarray(local) @ rotation[:2, :2].T
 

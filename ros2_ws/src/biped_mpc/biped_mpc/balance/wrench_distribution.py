@@ -122,7 +122,9 @@ class WrenchDistributor:
     constraints in its sole frame (local f, tau): f_z >= min_force; friction pyramid
     |f_x|, |f_y| <= mu f_z; CoP inside the sole shrunk by cop_margin,
     |tau_x| <= (W/2 - m) f_z and |tau_y| <= (L/2 - m) f_z; optionally |tau_z| <= mu (L + W)/2
-    f_z. The constraints are always feasible; a demand outside them (ZMP outside the support,
+    f_z; on a partial foothold (partial_foothold) also n . cop <= d - m for each of its cuts,
+    which the caller passes only while the cut sole shrunk by m is not empty. The
+    constraints are then always feasible; a demand outside them (ZMP outside the support,
     too little vertical force, too much shear) comes back as the nearest realisable wrench in
     the W metric, with status SATURATED. The force weight is far above the moment weight so
     that a ZMP demanded outside the support does not buy a smaller moment error with less
@@ -164,8 +166,17 @@ class WrenchDistributor:
             upper[[5, 10]] = np.inf
         return rows, lower, upper
 
+    def _cut_rows(self, rotation: np.ndarray, cuts) -> np.ndarray:
+        # n . cop <= d - margin with cop = (-tau_y, tau_x) / f_z in the sole frame, times f_z
+        rows = np.zeros((len(cuts), 6))
+        for row, (n_x, n_y, d) in zip(rows, cuts):
+            row[:3] = -(d - self.params.cop_margin) * rotation[:, 2]
+            row[3:] = n_y * rotation[:, 0] - n_x * rotation[:, 1]
+        return rows
+
     def update(self, support: int, net_force, net_moment, point, feet_positions,
-               feet_rotations: Optional[np.ndarray] = None, zmp=None) -> WrenchDistribution:
+               feet_rotations: Optional[np.ndarray] = None, zmp=None,
+               footholds=None) -> WrenchDistribution:
         """Distribute one desired net wrench.
 
         :param support: SUPPORT_LEFT, SUPPORT_RIGHT or SUPPORT_DOUBLE
@@ -175,6 +186,8 @@ class WrenchDistributor:
         :param feet_positions: (2, 3) sole centres, LEFT then RIGHT (m)
         :param feet_rotations: (2, 3, 3) sole frames in the world; None for flat, yaw 0
         :param zmp: (2,) ZMP giving the force ratio; None for point[:2]
+        :param footholds: (left, right) cuts of each sole (partial_foothold.Cut list, sole
+            frame): the foot's CoP also keeps cop_margin inside each; None: whole soles
         :return: the feet's wrenches and the status
         :raises InputError: for a non-finite or misshaped input or an unknown support
         """
@@ -192,9 +205,11 @@ class WrenchDistributor:
         ratio = left_ratio_of_zmp(zmp, positions[LEFT], positions[RIGHT])
         sides = {SUPPORT_LEFT: (LEFT,), SUPPORT_RIGHT: (RIGHT,)}.get(support, (LEFT, RIGHT))
         k = len(sides)
+        cuts = [[] if footholds is None else list(footholds[side]) for side in sides]
         net_map = np.zeros((6, 6 * k))
-        rows = np.zeros((_ROWS_PER_FOOT * k, 6 * k))
+        rows = np.zeros((_ROWS_PER_FOOT * k + sum(map(len, cuts)), 6 * k))
         lower, upper = [], []
+        first = _ROWS_PER_FOOT * k
         for i, side in enumerate(sides):
             net_map[:, 6 * i:6 * i + 6] = np.eye(6)
             net_map[3:, 6 * i:6 * i + 3] = _skew(positions[side] - point)
@@ -202,6 +217,13 @@ class WrenchDistributor:
             rows[_ROWS_PER_FOOT * i:_ROWS_PER_FOOT * (i + 1), 6 * i:6 * i + 6] = foot_rows
             lower.append(foot_lower)
             upper.append(foot_upper)
+        for i, side in enumerate(sides):
+            if cuts[i]:
+                rows[first:first + len(cuts[i]), 6 * i:6 * i + 6] = self._cut_rows(
+                    rotations[side], cuts[i])
+                lower.append(np.full(len(cuts[i]), -np.inf))
+                upper.append(np.zeros(len(cuts[i])))
+                first += len(cuts[i])
         weight = np.diag([p.net_force_weight] * 3 + [p.net_moment_weight] * 3)
         regularization = np.diag(([p.force_regularization] * 3
                                   + [p.torque_regularization] * 3) * k)
