@@ -73,6 +73,7 @@ from biped_mpc.controller_params import (
     BALANCE_STABILIZER, FEEDBACK_ESTIMATOR, IK_ANALYTIC, MODEL_THREE_MASS, PELVIS_GROUND_TRUTH,
     PELVIS_IMU_KINEMATICS, SWING_TARGET_PLANNED, WalkingControllerParams)
 from biped_mpc.errors import ConfigError, InputError
+from biped_mpc.height_continuity import HeightContinuity
 from biped_mpc.ik_targets import ik_targets, IkTargets
 from biped_mpc.leg_ik import AnalyticLegIk, IK_CLIPPED, IK_REACHABLE
 from biped_mpc.leg_kinematics import LegKinematics, sole_pose
@@ -175,6 +176,7 @@ class WalkingController:
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
         self._swing_start = SwingStart(params.swing_start_time_constant)
         self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
+        self._height_continuity = HeightContinuity(params.height_continuity_time_constant)
         self._swinging = [False, False]
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
@@ -220,6 +222,7 @@ class WalkingController:
         self._servo.reset(pelvis)
         self._swing_start.reset()
         self._swing_smoothing.reset()
+        self._height_continuity.reset()
         if self._balance is not None:
             self._balance.reset(soles)
         self._com_history = []
@@ -456,6 +459,10 @@ class WalkingController:
                 self._dt, self._stance.held(support_next), np.array([f[:3] for f in feet]))
             for side in SIDES:
                 feet[side][:3] = smoothed[side]
+        heights, targets.pelvis[2] = self._height_continuity.update(
+            self._dt, self._stance.held(support_next),
+            [targets.left_foot[2], targets.right_foot[2]], float(targets.pelvis[2]))
+        targets.left_foot[2], targets.right_foot[2] = heights
         return targets
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
