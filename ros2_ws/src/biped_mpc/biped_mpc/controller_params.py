@@ -109,6 +109,9 @@ class WalkingControllerParams:
         0.05, 'lag of the held soles\' and the pelvis\'s height targets behind the latched '
         'ground: a touchdown on a lower or higher tile does not step the stiff legs\' length '
         '(biped_mpc.height_continuity); 0: none (s)', low=0.0, high=10.0)
+    height_continuity_deadband: float = parameter(
+        0.005, 'the part of a height target step taken at once (m): a landing on flat ground '
+        'steps the targets by less, and the leg must press the foot down', low=0.0, high=0.1)
     swing_smoothing_time_constant: float = parameter(
         0.07, 'with the planned swing target: each swing foot follows its target through a '
         'first-order lag of this time constant, for a softer lift-off and landing (s); 0: off',

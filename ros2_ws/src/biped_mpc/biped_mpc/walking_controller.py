@@ -176,7 +176,8 @@ class WalkingController:
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
         self._swing_start = SwingStart(params.swing_start_time_constant)
         self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
-        self._height_continuity = HeightContinuity(params.height_continuity_time_constant)
+        self._height_continuity = HeightContinuity(params.height_continuity_time_constant,
+                                                   params.height_continuity_deadband)
         self._swinging = [False, False]
         lipm = LipmParams.from_three_mass(robot.masses)
         self._omega = math.sqrt(lipm.gravity / lipm.com_height)
