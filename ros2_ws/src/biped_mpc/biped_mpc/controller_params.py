@@ -106,7 +106,7 @@ class WalkingControllerParams:
         'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
         'planned swing from its planned start', low=0.0, high=10.0)
     height_continuity_time_constant: float = parameter(
-        0.05, 'lag of the held soles\' and the pelvis\'s height targets behind the latched '
+        0.0, 'lag of the held soles\' and the pelvis\'s height targets behind the latched '
         'ground: a touchdown on a lower or higher tile does not step the stiff legs\' length '
         '(biped_mpc.height_continuity); 0: none (s)', low=0.0, high=10.0)
     height_continuity_deadband: float = parameter(
