@@ -130,8 +130,7 @@ class PartialFoothold:
 
     def __init__(self, params: PartialFootholdParams = PartialFootholdParams()) -> None:
         self.params = params
-        self._sole = sole_rectangle(params.sole_length, params.sole_width)
-        self._sole_area = polygon_area(self._sole)
+        self._sole_area = polygon_area(sole_rectangle(params.sole_length, params.sole_width))
         self.reset()
 
     def reset(self) -> None:
@@ -192,10 +191,9 @@ class PartialFoothold:
         # (w x (r - c))_z = w_x (r_y - c_y) - w_y (r_x - c_x): the side moving down has no ground.
         n_x, n_y = w_y / speed, -w_x / speed
         cut = (n_x, n_y, n_x * c_x + n_y * c_y)
-        polygon = self._sole
-        for earlier in self.cuts + [cut]:
-            polygon = clip_polygon(polygon, earlier)
-        if len(polygon) < 3 or polygon_area(polygon) < p.min_area_fraction * self._sole_area:
-            return False
+        polygon, used = foothold_polygon(p.sole_length, p.sole_width, self.cuts + [cut])
+        if len(used) <= len(self.cuts) or \
+                polygon_area(polygon) < p.min_area_fraction * self._sole_area:
+            return False  # the cut leaves nothing, or too little
         self.cuts.append(cut)
         return True

@@ -212,12 +212,14 @@ class Stabilizer:
         rotations = np.array([rotation_z(yaw) for yaw in yaws])
         p = self.params
         polygon = None
-        cuts = ([], [])
+        cuts = ([], [])  # of each support sole, those its shrunk foothold still has room for
         if touching:
             corners = []
             for side in touching:
-                corners.append(self._sole_polygon(side, positions[side], yaws[side],
-                                                  rotations[side], measurement.footholds, cuts))
+                vertices, cuts[side][:] = self._sole_polygon(
+                    positions[side], yaws[side], rotations[side],
+                    [] if measurement.footholds is None else measurement.footholds[side])
+                corners.append(vertices)
             polygon = convex_hull(np.vstack(corners))
         dcm = self.dcm_feedback.update(dt, reference.dcm, measurement.dcm, reference.zmp,
                                        polygon, in_the_air)
@@ -234,8 +236,7 @@ class Stabilizer:
             support = (SUPPORT_DOUBLE if len(touching) == 2
                        else SUPPORT_LEFT if touching[0] == LEFT else SUPPORT_RIGHT)
             distribution = self.distributor.update(
-                support, force, np.zeros(3), point, positions, rotations,
-                footholds=cuts if measurement.footholds is not None else None)
+                support, force, np.zeros(3), point, positions, rotations, footholds=cuts)
             wrenches, local, status = (distribution.wrenches, distribution.local_wrenches,
                                        distribution.status)
             if detected:
@@ -269,16 +270,14 @@ class Stabilizer:
         return StabilizerOutput(dcm.zmp, wrenches, local, ankle_offsets, vertical, diagnostics,
                                 excess)
 
-    def _sole_polygon(self, side: int, position: np.ndarray, yaw: float, rotation: np.ndarray,
-                      footholds, cuts: tuple) -> np.ndarray:
-        """A support sole shrunk by the CoP margin, in the ground plane; its usable cuts are
-        stored in cuts[side]."""
+    def _sole_polygon(self, position: np.ndarray, yaw: float, rotation: np.ndarray,
+                      foothold_cuts) -> Tuple[np.ndarray, list]:
+        """A support sole shrunk by the CoP margin in the ground plane, and the cuts of its
+        foothold (partial_foothold) that the shrunk sole keeps."""
         d = self.params.distribution
-        if footholds is None or not footholds[side]:
+        if not foothold_cuts:
             shrink = 2.0 * d.cop_margin
             return rectangle_vertices(position, yaw, d.sole_length - shrink,
-                                      d.sole_width - shrink)
-        local, cuts[side][:] = foothold_polygon(d.sole_length, d.sole_width, footholds[side],
-                                                d.cop_margin)
-        return position[:2] + np.asarray(local) @ rotation[:2, :2].T
-
+                                      d.sole_width - shrink), []
+        local, used = foothold_polygon(d.sole_length, d.sole_width, foothold_cuts, d.cop_margin)
+        return position[:2] + np.asarray(local) @ rotation[:2, :2].T, used
