@@ -66,14 +66,16 @@ class SwingStep:
 
 
 def swing_step_at(reference, t: float) -> Optional[SwingStep]:
-    """The step in single support at t, None in double support, standing or after the walk.
+    """The step in single support at t, None in double support, standing, after the walk or
+    while the plan holds a late landing (WalkingReference.hold_landing: the swing is over,
+    the foot waits for the ground on its landing).
 
     :param reference: a WalkingReference
     :param t: time (s)
     :return: the swing step or None
     """
     index = reference.single_support_at(t)
-    if index is None:
+    if index is None or index != reference.swing_of_late_landing(t):
         return None
     phase = reference.phases[index]
     step = phase.step_index - 1

@@ -10,7 +10,8 @@ time (the planner's plan after a step adjustment too, from the adjustment's time
 wait in time order), so the splice does not depend on when the message arrived. Between walks
 the last reference holds its final standing pose. With an online step adjuster, the step under
 way moves (location and touchdown) when the measured DCM asks for it: the session's reference is
-then the adjusted one, and the adjustment is returned for the rest of the graph to follow.
+then the adjusted one, and the adjustment is returned for the rest of the graph to follow. With
+a landing hold, a swing foot late to meet the ground holds its single support the same way.
 """
 from dataclasses import dataclass
 import math
@@ -18,6 +19,7 @@ from typing import List, Optional, Sequence, Tuple
 
 from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
+from biped_planner.landing_hold import LANDING_STATES, LandingHold
 from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_window import joined_at, ReferenceWindow
@@ -86,6 +88,8 @@ class AppliedAdjustment:
     :param planned_touchdown: its touchdown before the adjustment (s)
     :param footsteps: the whole adjusted footstep list
     :param dcm_error: (x, y) estimated DCM minus the plan's at the time (m), what moved it
+    :param kind: KIND_MOVED (the step adjuster) or KIND_HELD (a late landing's hold: the
+        touchdown moved, the footsteps did not)
     """
 
     plan_id: int
@@ -95,6 +99,11 @@ class AppliedAdjustment:
     planned_touchdown: float
     footsteps: Tuple[Footstep, ...]
     dcm_error: Tuple[float, float] = (0.0, 0.0)
+    kind: str = 'moved'
+
+
+KIND_MOVED = 'moved'
+KIND_HELD = 'held'
 
 
 @dataclass(frozen=True)
@@ -108,11 +117,17 @@ class ReferenceSession:
     """Builds and updates the reference of the current walk."""
 
     def __init__(self, params: ReferenceParams,
-                 adjuster: Optional[OnlineStepAdjuster] = None) -> None:
+                 adjuster: Optional[OnlineStepAdjuster] = None,
+                 landing_hold: Optional[LandingHold] = None) -> None:
         """:param adjuster: the online step adjuster, None (or disabled) to walk plans as
-            they are"""
+            they are
+        :param landing_hold: waits for late landings, None (or disabled) to keep the plan's
+            timing"""
         self._params = params
         self._adjuster = adjuster if adjuster is not None and adjuster.params.enabled else None
+        self._landing_hold = landing_hold if landing_hold is not None and \
+            landing_hold.params.enabled else None
+        self._walk_holds = 0
         self._adjustments = 0
         self._walk_adjustments = 0
         self._plan: Optional[_Plan] = None
@@ -181,10 +196,51 @@ class ReferenceSession:
         index = swing.step + 2
         self._adjusted = (index, output.reference.footsteps[index])
         planned_dcm = swing.reference_dcm(t)
-        return AppliedAdjustment(self.plan_id, output.revision, swing.step,
+        return AppliedAdjustment(self.plan_id, output.revision + self._walk_holds, swing.step,
                                  swing.lift_off + output.adjustment.duration, swing.touchdown,
                                  tuple(output.reference.footsteps),
                                  (float(dcm[0]) - planned_dcm[0], float(dcm[1]) - planned_dcm[1]))
+
+    @property
+    def walk_holds(self) -> int:
+        """Holds and resumes of late landings in the walk under way."""
+        return self._walk_holds
+
+    def hold_landing(self, t: float, modes: Sequence[str], depths: Sequence[float],
+                     com: Optional[Sequence[float]] = None,
+                     dcm: Optional[Sequence[float]] = None) -> Optional[AppliedAdjustment]:
+        """Let the landing hold answer the swing landing reported at t.
+
+        :param t: time of the report (s)
+        :param modes: (left, right) landing states (biped_planner.landing_hold.LANDING_STATES)
+        :param depths: (left, right) search depths below the planned landings (m)
+        :param com: (2,) estimated COM to replan the hip from, None for the plan's
+        :param dcm: (2,) estimated DCM, with com
+        :return: the hold or resume, for the graph to follow (kind KIND_HELD), else None
+        :raises InputError: for modes or depths that are not two valid values
+        """
+        modes, depths = tuple(modes), tuple(depths)
+        if len(modes) != 2 or len(depths) != 2:
+            raise InputError(f'landing modes and depths must be (left, right), got {modes} and '
+                             f'{depths}')
+        if not all(mode in LANDING_STATES for mode in modes):
+            raise InputError(f'landing modes must be in {LANDING_STATES}, got {modes}')
+        if self._landing_hold is None or self._reference is None or \
+                self._walk_start is None or t < self._walk_start:
+            return None
+        swing = self._reference.swing_of_late_landing(t)
+        if swing is None:
+            return None
+        side = self._reference.phases[swing].swing_side
+        change = self._landing_hold.update(t, self._reference, str(modes[side]),
+                                           float(depths[side]), com, dcm)
+        if change is None:
+            return None
+        self._reference = change.reference
+        self._walk_holds += 1
+        return AppliedAdjustment(self.plan_id, self._walk_adjustments + self._walk_holds,
+                                 change.step, change.touchdown, change.planned_touchdown,
+                                 tuple(change.reference.footsteps), kind=KIND_HELD)
 
     def adjust_step(self, t_now: float, landings: Sequence[Footstep], touchdown: float,
                     hip: Optional[Sequence[float]] = None,
@@ -261,7 +317,7 @@ class ReferenceSession:
         self._walk_start = walk_start
         self._reference_plan_id = None
         self._changes_due, self._adjusted = [], None
-        self._walk_adjustments = 0
+        self._walk_adjustments = self._walk_holds = 0
         if self._plan is not None and self._plan.plan_id != self._last_walked_plan_id:
             self._build()
             return True
@@ -271,7 +327,7 @@ class ReferenceSession:
         """The robot stands again; the reference keeps holding its final pose."""
         self._walk_start = None
         self._changes_due, self._adjusted = [], None
-        self._walk_adjustments = 0
+        self._walk_adjustments = self._walk_holds = 0
 
     def window(self, t: float, n: int, dt: float,
                standing_feet: Optional[Tuple[Footstep, Footstep]]) -> Optional[ReferenceWindow]:

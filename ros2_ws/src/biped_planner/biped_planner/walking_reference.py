@@ -363,24 +363,131 @@ class WalkingReference:
             knot_times=[phase.t_begin] + after.knot_times,
             knot_zmp=[stance] + after.knot_zmp,
             free_knots=[index + 1 for index in after.free_knots])
+        return self._replanned_from(cut, rows, all_footsteps, timings, t_now, hip, dcm)
+
+    def hold_landing(self, t_now: float, touchdown: float,
+                     hip: Optional[Sequence[float]] = None,
+                     dcm: Optional[Sequence[float]] = None) -> 'WalkingReference':
+        """A new reference in which the single support of the latest swing lasts until touchdown.
+
+        A late contact: the swing foot of step k reached its planned landing time t_L without
+        touching the ground, so the single support goes on (the controller lowers the foot until
+        it meets the ground) and the double support and every later phase start at touchdown
+        instead, keeping their durations. Before t_L the swing is as planned; from t_L to
+        touchdown a second single-support phase of the same step holds the swing foot at its
+        planned landing pose (zero swing height) and the ZMP at the stance centre. Called again
+        on a held step it moves the end of the hold: to the time the foot met the ground (a
+        touchdown earlier than the held one), or later.
+
+        The step is the one in single support at t_now, or the one whose single support ended
+        last when t_now is in the double support right after it (the controller learns that
+        the landing is late only at t_L). The hip is replanned from (hip, dcm) at t_now as in
+        adjust_step: the ZMP on the stance centre from the lift-off until touchdown, and the
+        free knot of the next double support bends the ZMP to join the plan.
+
+        :param t_now: current time (s)
+        :param touchdown: new end of the single support (s), > t_now and > t_L
+        :param hip: (2,) hip position at t_now (m), None for this reference's own
+        :param dcm: (2,) DCM at t_now (m), with hip
+        :return: the held reference, revision one higher
+        :raises ConfigError: if no swing has just ended or is under way at t_now, the touchdown
+            is not after t_now and t_L, or hip and dcm are not both given
+        """
+        check_number('t_now', t_now)
+        check_number('touchdown', touchdown, low=t_now, low_open=True, unit=' s')
+        cut = self.swing_of_late_landing(t_now)
+        if cut is None:
+            raise ConfigError(f't_now={t_now} s is neither in a single support nor in the '
+                              f'double support right after one')
+        phases = self._phases
+        swing_phase = phases.phases[cut]
+        landing_time = swing_phase.t_end
+        if not touchdown > landing_time:
+            raise ConfigError(f'touchdown {touchdown} s must be after the planned landing '
+                              f'{landing_time} s')
+        if (hip is None) != (dcm is None):
+            raise ConfigError('hip and dcm are given together or not at all')
+        if hip is None:
+            hip, dcm = self._lipm.state_at(t_now)
+        hip = check_finite_array('hip (x, y)', hip, shape=(2,))
+        dcm = check_finite_array('dcm (x, y)', dcm, shape=(2,))
+        step = swing_phase.step_index - 1
+        old_timing = self._step_timings[step]
+        timings = list(self._step_timings)
+        timings[step] = StepTiming(single_support=touchdown - swing_phase.t_begin,
+                                   double_support=old_timing.double_support)
+        landed = [float(v) for v in phases.feet_start[cut] + phases.feet_delta[cut]]
+        after = plan_phases(self._footsteps, timings, self._params, first_step=step,
+                            t_begin=touchdown, start_zmp=None, stand_until=None,
+                            yaws=(landed[2], landed[5]))
+        stance = np.asarray(self._lipm.zmp[np.searchsorted(self._lipm.times,
+                                                           swing_phase.t_begin)])
+        rows = PhaseRows(
+            phases=[swing_phase,
+                    ReferencePhase(PHASE_SINGLE_SUPPORT, landing_time, touchdown,
+                                   swing_phase.support, swing_phase.step_index,
+                                   swing_phase.swing_side)] + after.phases,
+            feet_start=[list(phases.feet_start[cut]), landed] + after.feet_start,
+            feet_delta=[list(phases.feet_delta[cut]), [0.0] * 6] + after.feet_delta,
+            feet_height=[list(phases.feet_height[cut]), [0.0, 0.0]] + after.feet_height,
+            zmp_min=[phases.zmp_min[cut]] * 2 + after.zmp_min,
+            zmp_max=[phases.zmp_max[cut]] * 2 + after.zmp_max,
+            landing=[list(phases.landing[cut])] * 2 + after.landing,
+            knot_times=[swing_phase.t_begin, landing_time] + after.knot_times,
+            knot_zmp=[stance, stance] + after.knot_zmp,
+            free_knots=[index + 2 for index in after.free_knots])
+        return self._replanned_from(cut, rows, self._footsteps, timings, t_now, hip, dcm)
+
+    def swing_of_late_landing(self, t: float) -> Optional[int]:
+        """Index into phases of the swing (single support) whose landing may be late at t.
+
+        The single support under way at t (the first of a held step's two), or the one that
+        ended last when t is in the double support (or final settle) right after it.
+
+        :param t: time (s)
+        :return: the phase index or None
+        """
+        check_number('t', t)
+        phases = self._phases.phases
+        index = next((i for i, phase in enumerate(phases) if phase.t_begin <= t < phase.t_end),
+                     None)
+        if index is None:
+            return None
+        if phases[index].kind in (PHASE_DOUBLE_SUPPORT, PHASE_FINAL_SETTLE):
+            index -= 1
+        if index < 0 or phases[index].kind != PHASE_SINGLE_SUPPORT:
+            return None
+        if index > 0 and phases[index - 1].kind == PHASE_SINGLE_SUPPORT and \
+                phases[index - 1].step_index == phases[index].step_index:
+            index -= 1  # the hold of a held step: its swing is the phase before
+        return index
+
+    def _replanned_from(self, cut: int, rows: PhaseRows, footsteps: Tuple[Footstep, ...],
+                        timings: list, t_now: float, hip: np.ndarray,
+                        dcm: np.ndarray) -> 'WalkingReference':
+        """A reference that keeps the phases before cut and walks rows from there, its hip the
+        pendulum through (hip, dcm) at t_now with the ZMP on the stance centre since the
+        lift-off of the single support rows start with."""
+        lift_off = rows.phases[0].t_begin
+        stance = np.asarray(rows.knot_zmp[0])
         # the pendulum on the stance centre, run back from t_now to the lift-off knot
-        elapsed = self._omega * (t_now - phase.t_begin)
+        elapsed = self._omega * (t_now - lift_off)
         hip_start = stance + (hip - stance) * math.cosh(elapsed) - (dcm - hip) * math.sinh(
             elapsed)
         dcm_start = stance + (dcm - stance) * math.exp(-elapsed)
         tail = PiecewiseLipm(np.array(rows.knot_times), np.array(rows.knot_zmp), self._omega,
                              hip_start, dcm_start, (rows.free_knots[0], rows.free_knots[-1]))
-        adjusted = WalkingReference.__new__(WalkingReference)
-        adjusted._params = params
-        adjusted._omega = self._omega
-        adjusted._footsteps = all_footsteps
-        adjusted._step_timings = timings
-        adjusted._t_start = self._t_start
-        adjusted._revision = self._revision + 1
-        cut_knot = int(np.searchsorted(self._lipm.times, phase.t_begin))
-        adjusted._lipm = PiecewiseLipm.concatenate(self._lipm, cut_knot, tail)
-        adjusted._set_phases(rows, cut, self)
-        return adjusted
+        replanned = WalkingReference.__new__(WalkingReference)
+        replanned._params = self._params
+        replanned._omega = self._omega
+        replanned._footsteps = tuple(footsteps)
+        replanned._step_timings = list(timings)
+        replanned._t_start = self._t_start
+        replanned._revision = self._revision + 1
+        cut_knot = int(np.searchsorted(self._lipm.times, lift_off))
+        replanned._lipm = PiecewiseLipm.concatenate(self._lipm, cut_knot, tail)
+        replanned._set_phases(rows, cut, self)
+        return replanned
 
     def _set_phases(self, rows: PhaseRows, keep: int,
                     previous: Optional['WalkingReference'] = None) -> None:

@@ -191,6 +191,36 @@ class WalkingStateMachine:
                                reason='touchdown moved by the step adjuster')
         return True
 
+    def hold_single_support(self, step_index: int, end: float) -> bool:
+        """A late landing: the single support of step_index lasts until `end`.
+
+        In that step's single support it is retimed (as retime_single_support); in the double
+        support its timer began at the planned landing (the hold comes a period or two after
+        it), that double support was not one: the single support starts again, from the
+        planned landing to `end`. A second call with an earlier end is the touchdown.
+
+        :param step_index: the held step
+        :param end: the new end of its single support (clock time, s)
+        :return: whether it applied (False: the machine is in another step or phase)
+        :raises CommandError: if end is not finite
+        """
+        check_number('end', end, unit=' s', error=CommandError)
+        status = self._status
+        if status.step_index != step_index or end <= status.phase_start:
+            return False
+        reason = 'single support held: the swing foot has not met the ground'
+        if status.phase == Phase.SINGLE_SUPPORT:
+            self._status = replace(status, phase_duration=float(end) - status.phase_start,
+                                   reason=reason)
+            return True
+        if status.phase == Phase.DOUBLE_SUPPORT:
+            self._status = replace(status, phase=Phase.SINGLE_SUPPORT,
+                                   support=self.support_of_step(step_index),
+                                   phase_duration=float(end) - status.phase_start,
+                                   reason=reason)
+            return True
+        return False
+
     def request_start(self, t: float) -> List[WalkingStatus]:
         """Start walking (from Idle), or cancel a pending stop (while walking).
 

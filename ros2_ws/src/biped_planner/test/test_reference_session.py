@@ -92,6 +92,37 @@ def test_the_session_moves_the_step_under_way_and_reports_what_moved():
     assert ReferenceSession(ReferenceParams()).adjust(1.6, hip, dcm) is None  # no adjuster
 
 
+def test_the_session_holds_a_late_swing_and_reports_it_for_the_graph():
+    """Step 1's right foot (single support 1.5 .. 1.9 s) is reported seeking 8 mm below its
+    landing at 1.92 s: the single support is held, then ended by the touchdown."""
+    from biped_planner.errors import InputError
+    from biped_planner.landing_hold import LandingHold, LandingHoldParams
+    from biped_planner.reference_params import ReferenceParams
+    from biped_planner.reference_session import KIND_HELD, ReferenceSession
+    from biped_planner.step_timing import StepTiming
+    steps = straight_footsteps(4, 0.1, 0.2)
+    hold = LandingHold(LandingHoldParams(enabled=True, hold_time=0.1))
+    session = ReferenceSession(ReferenceParams(), landing_hold=hold)
+    session.set_plan(7, steps, StepTiming(0.4, 0.1), 0.0)
+    seeking_right = (('none', 'seeking'), (0.0, 0.008))
+    assert session.hold_landing(1.92, *seeking_right) is None  # no walk yet
+    session.start_walk(0.0)
+    assert session.hold_landing(1.92, ('seeking', 'none'), (0.008, 0.0)) is None  # other foot
+    held = session.hold_landing(1.92, *seeking_right)
+    assert (held.kind, held.plan_id, held.step_index, held.revision) == (KIND_HELD, 7, 1, 1)
+    assert held.touchdown == pytest.approx(2.0) and held.planned_touchdown == pytest.approx(1.9)
+    assert held.footsteps == tuple(steps)
+    assert session.reference.sample(1.95, 1, 0.01).zmp[0] == pytest.approx([steps[2].x,
+                                                                             steps[2].y])
+    resumed = session.hold_landing(1.96, ('none', 'landed'), (0.0, 0.0))
+    assert resumed.touchdown == pytest.approx(1.961) and resumed.revision == 2
+    assert session.walk_holds == 2 and session.walk_adjustments == 0
+    with pytest.raises(InputError):
+        session.hold_landing(1.97, ('none',), (0.0,))
+    # off: nothing held
+    assert ReferenceSession(ReferenceParams()).hold_landing(1.92, *seeking_right) is None
+
+
 def test_the_walk_adjustments_count_the_walk_under_way_and_restart_with_a_walk():
     """walk_adjustments tells the controller the walk's plan follows the measured DCM: it
     counts the adjusted steps of the walk under way and is 0 again once the robot stands and

@@ -178,6 +178,40 @@ def test_an_adjusted_touchdown_moves_the_end_of_that_single_support_only():
     assert not machine.retime_single_support(machine.status.step_index, 0.5)  # before start
 
 
+def test_a_late_landing_holds_the_single_support_from_its_double_support():
+    """The hold comes after the planned landing, once the timer began the double support:
+    the single support starts again and ends at the held touchdown; the touchdown that ends
+    the hold early is taken the same way."""
+    machine = WalkingStateMachine(PARAMS)
+    machine.request_start(0.0)
+    run(machine, 1.92)  # step 1: single support 1.5 .. 1.9 s, double support from 1.9 s
+    assert machine.status.phase == Phase.DOUBLE_SUPPORT and machine.status.step_index == 1
+    assert not machine.hold_single_support(0, 2.1)  # not the step under way
+    assert machine.hold_single_support(1, 2.1)
+    status = machine.status
+    assert (status.phase, status.step_index) == (Phase.SINGLE_SUPPORT, 1)
+    assert status.support == machine.support_of_step(1)
+    assert status.phase_start == pytest.approx(1.9)
+    assert status.phase_start + status.phase_duration == pytest.approx(2.1)
+    assert machine.hold_single_support(1, 1.981)  # the foot met the ground
+    transitions = run(machine, 2.6, t0=1.92)
+    assert [s.phase for s in transitions[:3]] == [Phase.DOUBLE_SUPPORT, Phase.SINGLE_SUPPORT,
+                                                  Phase.DOUBLE_SUPPORT]
+    assert [s.phase_start for s in transitions[:3]] == pytest.approx([1.981, 2.081, 2.481],
+                                                                     abs=1e-9)
+    assert transitions[1].step_index == 2
+    assert not machine.hold_single_support(machine.status.step_index, 0.5)  # before start
+
+
+@pytest.mark.parametrize('end', [math.nan, math.inf])
+def test_a_non_finite_held_touchdown_is_a_command_error(end):
+    machine = WalkingStateMachine(PARAMS)
+    machine.request_start(0.0)
+    run(machine, 1.1)
+    with pytest.raises(CommandError):
+        machine.hold_single_support(0, end)
+
+
 @pytest.mark.parametrize('end', [math.nan, math.inf])
 def test_a_non_finite_adjusted_touchdown_is_a_command_error(end):
     machine = WalkingStateMachine(PARAMS)

@@ -1,0 +1,127 @@
+"""Late landings: the single support of a swing that has not met the ground goes on.
+
+The controller lowers a swing foot that reaches its planned landing time without contact
+(biped_mpc.balance.swing_landing, 'seeking') and reports its landing state every period; this
+holds the plan's single support meanwhile (WalkingReference.hold_landing), so that the ZMP
+stays on the stance foot, the double support and every later phase wait, and the reference,
+the state machine and the MPC agree on the new timing. The touchdown ends the hold.
+"""
+from dataclasses import dataclass
+import math
+from typing import Optional, Sequence
+
+from biped_planner.errors import ConfigError, InputError
+from biped_planner.parameter_fields import parameter, validate_fields
+from biped_planner.reference_phases import PHASE_SINGLE_SUPPORT
+
+# The controller's landing states of the swing foot (biped_mpc.balance.swing_landing modes).
+LANDING_NONE = 'none'          # no swing under way
+LANDING_SWINGING = 'swinging'  # before its planned landing time
+LANDING_SEEKING = 'seeking'    # past it without contact: the foot descends to find the ground
+LANDING_LANDED = 'landed'      # it met the ground
+LANDING_FAILED = 'failed'      # no ground down to the deepest search
+LANDING_STATES = (LANDING_NONE, LANDING_SWINGING, LANDING_SEEKING, LANDING_LANDED,
+                  LANDING_FAILED)
+
+HOLD = 'hold'
+RESUME = 'resume'
+# s from the report of the touchdown to the end of the hold: the next period's reference is
+# already in the double support
+RESUME_LEAD = 1e-3
+
+
+@dataclass(frozen=True)
+class LandingHoldParams:
+    """When the plan waits for a late landing."""
+
+    enabled: bool = parameter(False, 'hold the single support of a swing foot that reaches '
+                              'its planned landing time without contact, until it touches down')
+    hold_time: float = parameter(
+        0.2, 'longest wait past the planned landing time (s): the double support then starts '
+        'as planned (at 0.15 m/s the foot searches 30 mm below its landing in 0.2 s)',
+        low=0.0, high=1.0)
+    min_depth: float = parameter(
+        0.005, 'how far below its planned landing height the late foot must search before the '
+        'plan holds (m): on flat ground the lagging swing target is still millimetres above the '
+        'ground at the planned landing time and every landing came 40-80 ms late, each held',
+        low=0.0, high=0.3)
+
+    def __post_init__(self) -> None:
+        validate_fields(self, ConfigError)
+
+
+@dataclass(frozen=True)
+class LandingHoldChange:
+    """A hold begun or ended.
+
+    :param kind: HOLD (the single support waits) or RESUME (the foot is down: it ends now)
+    :param reference: the retimed WalkingReference
+    :param step: the step whose touchdown moved (it lands footsteps[step + 2])
+    :param touchdown: its new touchdown time (s)
+    :param planned_touchdown: its touchdown before the change (s)
+    """
+
+    kind: str
+    reference: object
+    step: int
+    touchdown: float
+    planned_touchdown: float
+
+
+class LandingHold:
+    """Holds the single support of a late swing until the controller reports its touchdown.
+
+    Each period, with the swing foot's landing state of that period: a foot 'seeking' past
+    its planned landing time t_L, its target min_depth or more below the planned landing
+    height (and no hold yet), holds the single support until t_L + hold_time; in a hold, any
+    other state (landed; failed; the swing lost) ends it now.
+    A hold that runs out lets the plan go on. Nothing else changes the plan: the footsteps,
+    and a landing that comes on time, are the plan's.
+
+    :param params: when to hold
+    """
+
+    def __init__(self, params: LandingHoldParams = LandingHoldParams()) -> None:
+        self.params = params
+
+    def update(self, t: float, reference, landing: str, depth: float = 0.0,
+               hip: Optional[Sequence[float]] = None,
+               dcm: Optional[Sequence[float]] = None) -> Optional[LandingHoldChange]:
+        """One period.
+
+        :param t: time of the landing state (s)
+        :param reference: the WalkingReference walked
+        :param landing: the swing foot's landing state (LANDING_STATES)
+        :param depth: how far below its planned landing height the seeking foot's target is (m)
+        :param hip: (2,) estimated hip (COM) at t (m) to replan from, None for the plan's
+        :param dcm: (2,) estimated DCM at t (m), with hip
+        :return: the change, or None (off, no late swing, nothing to change)
+        :raises InputError: for an unknown landing state or a depth not finite and >= 0
+        """
+        if landing not in LANDING_STATES:
+            raise InputError(f'landing state must be one of {LANDING_STATES}, got {landing!r}')
+        if not (isinstance(depth, (int, float)) and 0.0 <= depth < math.inf):
+            raise InputError(f'landing depth must be a finite number >= 0 (m), got {depth!r}')
+        if not self.params.enabled or reference is None:
+            return None
+        swing = reference.swing_of_late_landing(t)
+        if swing is None:
+            return None
+        phases = reference.phases
+        phase = phases[swing]
+        step = phase.step_index - 1
+        held = swing + 1 < len(phases) and phases[swing + 1].kind == PHASE_SINGLE_SUPPORT \
+            and phases[swing + 1].step_index == phase.step_index
+        if not held:
+            touchdown = phase.t_end + self.params.hold_time
+            if landing != LANDING_SEEKING or depth < self.params.min_depth or \
+                    t < phase.t_end or touchdown <= t:
+                return None
+            return LandingHoldChange(HOLD, reference.hold_landing(t, touchdown, hip, dcm), step,
+                                     touchdown, phase.t_end)
+        hold_end = phases[swing + 1].t_end
+        if landing == LANDING_SEEKING or t + RESUME_LEAD >= hold_end:
+            return None
+        touchdown = t + RESUME_LEAD
+        return LandingHoldChange(RESUME, reference.hold_landing(t, touchdown, hip, dcm), step,
+                                 touchdown, hold_end)
