@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_planner.landing_hold import LandingHoldParams
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import run_trial, step_down_terrain
@@ -36,10 +37,15 @@ def main() -> None:
                         metavar=('FIRST', 'LAST', 'STEP'), help='edge positions x (m)')
     parser.add_argument('--steps', type=int, default=10, help='steps of 0.1 m')
     parser.add_argument('--models', nargs='+', default=['three_mass'])
+    parser.add_argument('--landing-hold', type=float, default=None, metavar='SECONDS',
+                        help='let the plan wait this long at most for a late landing '
+                        '(biped_planner.landing_hold); default: the plan\'s timing')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
     args = parser.parse_args()
     overrides = dict(parse_override(text) for text in args.set)
+    hold = None if args.landing_hold is None else LandingHoldParams(
+        enabled=True, hold_time=args.landing_hold)
     first, last, step = args.edges
     edges = np.round(np.arange(first, last + 0.5 * step, step), 4)
     robot = coman_like()
@@ -58,7 +64,8 @@ def main() -> None:
                 wall = time.monotonic()
                 try:
                     result = run_trial(backend, controller, args.steps, 0.1,
-                                       step_down_terrain(height, float(edge)))
+                                       step_down_terrain(height, float(edge)),
+                                       landing_hold=hold)
                 finally:
                     backend.close()
                 walked = not result.fallen and result.distance > edge + WALKED_PAST

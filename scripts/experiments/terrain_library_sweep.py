@@ -17,6 +17,7 @@ import dataclasses
 import time
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
+from biped_planner.landing_hold import LandingHoldParams
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import edge_terrain, paper_terrain, run_trial
@@ -47,6 +48,9 @@ def main() -> None:
                         'takes')
     parser.add_argument('--no-flat', action='store_true', help='skip the flat walk')
     parser.add_argument('--no-edge', action='store_true', help='skip standing on the edge')
+    parser.add_argument('--landing-hold', type=float, default=None, metavar='SECONDS',
+                        help='let the plan wait this long at most for a late landing '
+                        '(biped_planner.landing_hold); default: the plan\'s timing')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
     parser.add_argument('--sim', nargs='*', default=[], metavar='FIELD=VALUE',
@@ -54,6 +58,8 @@ def main() -> None:
                         'sole_contact_stiffness=1e5)')
     args = parser.parse_args()
     overrides = dict(parse_override(text) for text in args.set)
+    hold = None if args.landing_hold is None else LandingHoldParams(
+        enabled=True, hold_time=args.landing_hold)
     sim_overrides = dict(parse_override(text) for text in args.sim)
     robot = coman_like()
     trials = [] if args.no_flat else [('flat', None, args.steps)]
@@ -75,7 +81,8 @@ def main() -> None:
                 wall = time.monotonic()
                 try:
                     if steps:
-                        result = run_trial(backend, controller, steps, 0.1, terrain)
+                        result = run_trial(backend, controller, steps, 0.1, terrain,
+                                           landing_hold=hold)
                     else:
                         result = run_trial(backend, controller, 0, 0.0, terrain,
                                            duration=args.edge, t_start=1e3)

@@ -53,8 +53,10 @@ TOPICS = {
     'balance_estimate': Topic(BalanceEstimate),
     'step_adjustment': Topic(StepAdjustment, flow=False),
 }
-# the reference generator reads balance_estimate only with its step adjuster on
-GRAPH_OVERRIDES = {'reference_generator': ['step_adjustment.enabled:=true']}
+# the reference generator reads balance_estimate only with its step adjuster or its landing
+# hold on
+GRAPH_OVERRIDES = {'reference_generator': ['step_adjustment.enabled:=true',
+                                           'landing_hold.enabled:=true']}
 SERVICES = {'reset': Trigger, 'plan_walk': PlanWalk}
 
 SM, PLANNER, REFERENCES, CONTROLLER, SIM = ('state_machine', 'footstep_planner',
@@ -302,6 +304,14 @@ BALANCE_ESTIMATE = [
     ('com and dcm 2 m off the plan', 'bounds', mutated(far_estimate)),
     ('stamp 30 s ahead', 'stamp', mutated(ahead)),
     ('frame_id odom', 'frame', setting('header.frame_id', 'odom')),
+    # the landing hold's inputs (GRAPH_OVERRIDES turns it on)
+    ('landing_modes of one foot', 'mismatched', setting('landing_modes', ['none'])),
+    ('no landing_modes', 'empty', setting('landing_modes', [])),
+    ('landing_modes flying', 'enum', setting('landing_modes', ['flying', 'none'])),
+    ('landing_depths NaN', 'nan', setting('landing_depths', [NAN, 0.0])),
+    ('landing_depths inf', 'inf', setting('landing_depths', [0.0, INF])),
+    ('landing_depths 1e30', 'huge', setting('landing_depths', [HUGE, 0.0])),
+    ('landing_depths -0.1', 'bounds', setting('landing_depths', [0.0, -0.1])),
 ]
 
 
@@ -323,6 +333,12 @@ def adjustment(change):
     return build
 
 
+def held_at(touchdown):
+    def change(m):
+        m.kind, m.touchdown_time = StepAdjustment.KIND_HELD, touchdown
+    return change
+
+
 def moved_walked_footstep(m):
     m.footsteps[0].x += 0.05
 
@@ -340,6 +356,9 @@ STEP_ADJUSTMENT = [  # (variant, kind, change, readers)
     ('touchdown_time NaN', 'nan', lambda m: setattr(m, 'touchdown_time', NAN), (SM,)),
     ('touchdown_time 1e30', 'huge', lambda m: setattr(m, 'touchdown_time', HUGE), (SM,)),
     ('frame_id odom', 'frame', lambda m: setattr(m.header, 'frame_id', 'odom'), (PLANNER,)),
+    ('kind 7', 'enum', lambda m: setattr(m, 'kind', 7), (PLANNER, SM)),
+    ('kind HELD, touchdown_time NaN', 'nan', held_at(NAN), (SM,)),
+    ('kind HELD, touchdown_time 1e30', 'huge', held_at(HUGE), (SM,)),
 ]
 
 

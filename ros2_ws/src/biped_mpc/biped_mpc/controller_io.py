@@ -149,6 +149,8 @@ class ControllerOutput:
         vertical drift (m)
     :param landing_modes: (left, right) swing_landing modes ('swinging', 'seeking', 'landed',
         'failed'; 'support' for a foot the plan has on the ground)
+    :param landing_depths: (2,) left and right: how far below its planned landing height a
+        seeking swing foot's target has descended (m), 0 otherwise
     :param trunk_tilt: (2,) roll and pitch of the pelvis target about its heading frame: the
         stabilizer's hip strategy (rad)
     :param command_leash_shift: (2,) how far the command leash moved the commanded state
@@ -187,6 +189,7 @@ class ControllerOutput:
     ankle_conformance: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
     vertical_offsets: np.ndarray = field(default_factory=lambda: np.zeros(2))
     landing_modes: tuple = ('support', 'support')
+    landing_depths: np.ndarray = field(default_factory=lambda: np.zeros(2))
     trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))
     command_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))
     dcm_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))

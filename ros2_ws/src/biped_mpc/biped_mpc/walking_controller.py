@@ -530,6 +530,7 @@ class WalkingController:
                          ankle_conformance=balance.conformance.copy(),
                          vertical_offsets=balance.stabilizer.vertical_offsets.copy(),
                          landing_modes=balance.landing_modes,
+                         landing_depths=np.array(balance.landing_depths),
                          trunk_tilt=targets.trunk_tilt.copy())
         return ControllerOutput(
             joint_setpoints=ik.q.copy(), joint_velocities=velocities, status=status,

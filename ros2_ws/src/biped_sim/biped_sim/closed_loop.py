@@ -183,6 +183,8 @@ class ClosedLoopRunner:
             # a source with a step adjuster (AdjustedWalk) counts its revisions
             self.controller.walk_adjustments = getattr(self.source, 'revision', 0)
             output = self.controller.step(t, window, feedback)
+            if hasattr(self.source, 'observe_output'):  # a plan that answers the landings
+                self.source.observe_output(t, output)
             controller_done = clock()
             next_readings = self.actuator.apply(output)
             physics_done = clock()

@@ -14,6 +14,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from biped_planner.landing_hold import LANDING_NONE, LandingHold
 from biped_planner.walking_reference import WalkingReference
 
 from biped_sim.errors import ConfigError
@@ -107,6 +108,50 @@ class AdjustedWalk:
             # the convergent component 2 c - xi decays towards the ZMP as the DCM grows
             com_now = 0.5 * (dcm_now + zmp + (2.0 * com - dcm - zmp) / growth)
             self.adjust(t, com_now, dcm_now)
+        return self.reference.sample(t, n, dt)
+
+
+class HeldWalk:
+    """Reference source of a plan that waits for late landings (biped_planner.landing_hold).
+
+    The runner hands it each cycle's controller output (observe_output); the next window
+    first lets the LandingHold answer the swing foot's landing state of that cycle, one period
+    late as through the node graph, and replans from the plan's own hip.
+
+    :param reference: the WalkingReference of the plan
+    :param hold: a LandingHold
+    """
+
+    def __init__(self, reference, hold: LandingHold) -> None:
+        if not hasattr(reference, 'hold_landing'):
+            raise ConfigError(f'reference must be a WalkingReference, got '
+                              f'{type(reference).__name__}')
+        self.reference = reference
+        self.hold = hold
+        self.changes = []  # (t, LandingHoldChange) in order
+        self._observed: Optional[tuple] = None
+
+    def observe_output(self, t: float, output) -> None:
+        """Keep the swing foot's landing state of the cycle at t (output.landing_modes and
+        landing_depths)."""
+        swing = self.reference.swing_of_late_landing(t)
+        if swing is None:
+            self._observed = None
+            return
+        side = self.reference.phases[swing].swing_side
+        mode = output.landing_modes[side]
+        self._observed = (float(t), LANDING_NONE if mode == 'support' else str(mode),
+                          float(output.landing_depths[side]))
+
+    def window(self, t: float, n: int, dt: float):
+        """The reference window of n samples from t, after the hold answered the last state."""
+        if self._observed is not None:
+            t_seen, landing, depth = self._observed
+            self._observed = None
+            change = self.hold.update(t_seen, self.reference, landing, depth)
+            if change is not None:
+                self.reference = change.reference
+                self.changes.append((t_seen, change))
         return self.reference.sample(t, n, dt)
 
 

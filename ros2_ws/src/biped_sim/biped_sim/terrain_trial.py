@@ -13,15 +13,18 @@ support, 4 cm swing height, 0.14 m step width).
 """
 from dataclasses import dataclass
 import math
+from typing import Optional
 
 import numpy as np
 
 from biped_planner.footsteps import straight_footsteps
+from biped_planner.landing_hold import LandingHold, LandingHoldParams
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
 
 from biped_sim.closed_loop import ClosedLoopRunner
 from biped_sim.errors import ConfigError
+from biped_sim.reference_sources import HeldWalk
 from biped_sim.terrain import generate_terrain, Terrain, TerrainParams
 
 TIMING = StepTiming(single_support=0.4, double_support=0.2)
@@ -139,7 +142,7 @@ def paper_terrain(tile_area: float, seed: int, side_length: float = PAPER_SIDE,
 
 def run_trial(backend, controller, n_steps: int, step_length: float, terrain=None,
               duration: float = None, t_start: float = T_START,
-              on_cycle=None) -> TrialResult:
+              on_cycle=None, landing_hold: Optional[LandingHoldParams] = None) -> TrialResult:
     """Walk straight steps (or stand, n_steps = 0) with the controller on the backend.
 
     :param backend: a PyBulletBackend (its scenery is replaced by the terrain)
@@ -150,6 +153,8 @@ def run_trial(backend, controller, n_steps: int, step_length: float, terrain=Non
     :param duration: simulated time (s); None runs to the end of the plan plus 1 s
     :param t_start: start of the walk (s)
     :param on_cycle: called after every cycle as on_cycle(t, window, output, readings)
+    :param landing_hold: let the plan wait for late landings (biped_planner.landing_hold);
+        None walks the plan's timing
     :return: the measurements
     """
     backend.clear_scenery()
@@ -157,7 +162,9 @@ def run_trial(backend, controller, n_steps: int, step_length: float, terrain=Non
         backend.add_terrain(terrain)
     reference = WalkingReference(straight_footsteps(n_steps, step_length, STEP_WIDTH), TIMING,
                                  REFERENCE, t_start=t_start)
-    runner = ClosedLoopRunner(backend, controller, reference)
+    source = reference if landing_hold is None else HeldWalk(reference,
+                                                              LandingHold(landing_hold))
+    runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
     log = runner.run(reference.t_end + 1.0 if duration is None else duration, on_cycle)
     fallen = bool(log.fallen)

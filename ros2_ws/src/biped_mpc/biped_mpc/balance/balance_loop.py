@@ -174,6 +174,8 @@ class BalanceResult:
     :param targets: the IK targets with the offsets applied
     :param stabilizer: the Stabilizer's output of the cycle
     :param landing_modes: (left, right) swing_landing mode, or 'support'
+    :param landing_depths: (left, right) how far below its planned landing height a late swing
+        foot's target has descended (m), 0 for a foot not seeking
     :param conformance: (2, 2) roll and pitch offsets of the sole targets for the ground's
         tilt (rad), added to the stabilizer's foot damping offsets in the targets
     """
@@ -182,6 +184,7 @@ class BalanceResult:
     stabilizer: StabilizerOutput
     landing_modes: tuple
     conformance: np.ndarray
+    landing_depths: tuple = (0.0, 0.0)
 
 
 # A loaded foot refused by the detector's distance gate this long after its planned landing is
@@ -305,6 +308,11 @@ class BalanceLoop:
             if swing is not None:
                 phase = swing.phase(t)
                 distance = float(np.linalg.norm(soles[side][0][:2] - swing.landing_point[:2]))
+                if self._landings[side].mode == SEEKING:
+                    # past its planned landing the foot is wherever it met the ground: a foot
+                    # stopped 9 cm short by a higher tile's edge was refused for ever, and a
+                    # plan holding the single support for it waited for nothing
+                    distance = None
             state = self._detectors[side].update(t, wrenches[side].normal_force, phase, distance)
             if swing is not None:
                 self._watch_refusal(t, side, swing, state, distance)
@@ -415,6 +423,7 @@ class BalanceLoop:
             else None)
         output = self.stabilizer.update(dt, reference, measurement)
         modes = [PLANNED_SUPPORT, PLANNED_SUPPORT]
+        self._depths = [0.0, 0.0]
         for side in SIDES:
             feet[side][2] += output.vertical_offsets[side]
             if self._active[side] and self.params.contact_aware_landing:
@@ -438,7 +447,8 @@ class BalanceLoop:
                                                   loaded)
         stabilized = IkTargets(pelvis_target, feet[0], feet[1], targets.yaw,
                                output.ankle_offsets + conformance, trunk)
-        return BalanceResult(stabilized, output, tuple(modes), conformance)
+        return BalanceResult(stabilized, output, tuple(modes), conformance,
+                             tuple(self._depths))
 
     def _land(self, t: float, dt: float, side: int, foot: np.ndarray, sensed: SensedFeet,
               soles: tuple) -> str:
@@ -454,6 +464,7 @@ class BalanceLoop:
             # the landing logic (a landed foot frozen where its lagging target was stood 1-3
             # cm short of it and slid back).
             foot[2] = landing.height
+        self._depths[side] = landing.extra_depth
         return landing.mode
 
     def _admittance(self, dt: float, measured_zmp: np.ndarray,

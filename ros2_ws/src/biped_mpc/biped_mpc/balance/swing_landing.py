@@ -130,6 +130,11 @@ class SwingLanding:
         self._height = float(landing_height)
         self._stretched = False
 
+    @property
+    def mode(self) -> str:
+        """SWINGING, SEEKING, LANDED or FAILED (the last update's)."""
+        return self._mode
+
     def retime(self, landing_time: float) -> None:
         """The plan moved the landing time of the swing under way (a step adjustment).
 

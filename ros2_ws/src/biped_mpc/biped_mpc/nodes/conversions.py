@@ -78,6 +78,15 @@ def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
     diag.dcm_leash_shift = floats(output.dcm_leash_shift)
 
 
+def landing_of(output) -> tuple:
+    """BalanceEstimate's landing_modes and landing_depths from a cycle's output (None: no
+    cycle yet): 'support' (a foot the plan has on the ground) is 'none' there."""
+    if output is None:
+        return ['none', 'none'], [0.0, 0.0]
+    modes = ['none' if mode == 'support' else str(mode) for mode in output.landing_modes]
+    return modes, [float(depth) for depth in output.landing_depths]
+
+
 def deadline_terms(diag: ControllerDiagnostics, monitor) -> None:
     """The deadline accounting of a biped_mpc.deadline_monitor.DeadlineMonitor."""
     report = monitor.report()

@@ -65,7 +65,8 @@ from biped_mpc.deadline_monitor import DeadlineMonitor
 from biped_mpc.errors import BipedMpcError, InputError
 from biped_mpc.input_bounds import check_reference_window, InputBounds
 from biped_mpc.mpc_params import MpcParams
-from biped_mpc.nodes.conversions import deadline_terms, diagnostics_msg, sole_poses_msg
+from biped_mpc.nodes.conversions import (deadline_terms, diagnostics_msg, landing_of,
+                                         sole_poses_msg)
 from biped_mpc.nodes.sensor_intake import SensorFrames, SensorIntake
 from biped_mpc.robot_model import COMAN_LIKE_MODEL_FILE, load_robot_model
 from biped_mpc.reference_supervisor import ReferenceSupervisor
@@ -459,6 +460,7 @@ class MpcControllerNode(Node):
         msg.com.x, msg.com.y = float(com[0]), float(com[1])
         msg.dcm.x, msg.dcm.y = float(dcm[0]), float(dcm[1])
         msg.zmp.x, msg.zmp.y = float(feedback.zmp[0]), float(feedback.zmp[1])
+        msg.landing_modes, msg.landing_depths = landing_of(self._last_output)
         self._balance_pub.publish(msg)
 
     def _hold_joints(self, stamp, why: str) -> None:

@@ -261,7 +261,11 @@ class FootstepPlannerNode(Node):
                 self._reject('walking_state', error)
 
     def _on_adjustment(self, msg: StepAdjustment) -> None:
+        if msg.kind == StepAdjustment.KIND_HELD:
+            return  # a late landing's hold moves a touchdown, no footstep: the plan stands
         try:
+            if msg.kind != StepAdjustment.KIND_MOVED:
+                raise ValueError(f'unknown kind {msg.kind}')
             if msg.header.frame_id != self._frame:
                 raise FrameError(f'frame_id {msg.header.frame_id!r}, expected {self._frame!r}')
             footsteps = footsteps_from_msgs(msg.footsteps)

@@ -6,7 +6,7 @@ Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_st
 controller sends the measured soles before its first cycle; odom until they arrive only with
 standing_from_odom), joint_commands (sensor_msgs/JointState from the controller, on sim time:
 see below), balance_estimate (biped_msgs/BalanceEstimate from the controller, with
-step_adjustment.enabled).
+step_adjustment.enabled or landing_hold.enabled).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds;
 step_adjustment (biped_msgs/StepAdjustment) when the online step adjuster moved the step under
@@ -18,6 +18,11 @@ balance_estimate of a single support is answered by the adjuster's QP; when it m
 the walk's reference is replanned at once (the next reference_trajectory carries it, with a
 higher plan_revision) and step_adjustment tells the planner (which republishes the plan and
 plans on from it) and the state machine (which moves the touchdown).
+
+Landing hold (biped_planner.landing_hold, off by default): a swing foot that the controller
+reports still seeking the ground past its planned landing holds the single support until it
+touches down (WalkingReference.hold_landing); step_adjustment, kind HELD, tells the state
+machine the new touchdown; the planner's footsteps do not change.
 
 On sim time the controller waits for the reference of each period (lockstep). Once it has
 answered period t (its joint command stamped t), the simulator steps to t + 1 / rate, so the
@@ -65,6 +70,7 @@ from biped_planner.errors import BipedPlannerError
 from biped_planner.extension_wait import awaited_extension
 from biped_planner.footsteps import feet_beside
 from biped_planner.input_watch import InputWatch
+from biped_planner.landing_hold import LandingHold, LandingHoldParams
 from biped_planner.node_support.dataclass_parameters import (
     declare_dataclass_parameters, declare_live_parameters, declare_node_parameters)
 from biped_planner.node_support.latest_message_reader import LatestMessageReader
@@ -79,7 +85,8 @@ from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_pose
                                              footstep_msgs, footsteps_from_msgs)
 from biped_planner.pose_checks import PoseBounds
 from biped_planner.reference_params import ReferenceParams
-from biped_planner.reference_session import check_footsteps, check_plan_start, ReferenceSession
+from biped_planner.reference_session import (check_footsteps, check_plan_start, KIND_HELD,
+                                              ReferenceSession)
 from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_planner.standing_feet import settled_feet
@@ -97,6 +104,7 @@ STANDING_PATIENCE = 5.0
 # does not order two topics, and on a loaded machine it can come second (the step adjuster would
 # then answer it a period later in one run than in another)
 ESTIMATE_WAIT = 0.02
+MAX_LANDING_DEPTH = 1.0  # m: a reported search deeper than this is not a foot's
 
 
 class ExtensionWait(NamedTuple):
@@ -161,6 +169,8 @@ class ReferenceGeneratorNode(Node):
         # Descriptions and ranges from the adjuster's parameter() fields; read at start.
         self._adjuster_params = declare_dataclass_parameters(
             self, OnlineStepAdjusterParams(enabled=False), {}, prefix='step_adjustment.')
+        self._hold_params = declare_dataclass_parameters(
+            self, LandingHoldParams(), {}, prefix='landing_hold.')
         reference = self._reference_params
         self._step_limits = declare_dataclass_parameters(
             self, StepAdjustmentParams(com_height=reference.com_height), {},
@@ -180,7 +190,7 @@ class ReferenceGeneratorNode(Node):
         # t had sent it, depending on the load).
         self._balance_reader = LatestMessageReader(
             self, BalanceEstimate, 'balance_estimate', QoSProfile(depth=10)) \
-            if self._adjuster_params.enabled else None
+            if self._adjuster_params.enabled or self._hold_params.enabled else None
         self._alive = LivelinessToken(self, 'reference_trajectory')  # the controller waits for it
         self._planner_process = LivelinessWatch(self, 'footstep_plan')
         self._continuous = False  # the newest plan used is a teleop plan the planner extends
@@ -221,7 +231,8 @@ class ReferenceGeneratorNode(Node):
     def _new_session(self) -> ReferenceSession:
         adjuster = OnlineStepAdjuster(self._adjuster_params, self._step_limits) \
             if self._adjuster_params.enabled else None
-        return ReferenceSession(self._reference_params, adjuster)
+        return ReferenceSession(self._reference_params, adjuster,
+                                LandingHold(self._hold_params))
 
     def destroy_node(self) -> None:
         if self._balance_reader is not None:
@@ -275,15 +286,25 @@ class ReferenceGeneratorNode(Node):
             # feet (the swing foot unloading), and held there it predicts a DCM that falls
             # inwards, which moved every first step inwards to the crossing limit.
             adjustment = self._session.adjust(t, com, dcm)
+            held = None
+            if self._hold_params.enabled:
+                depths = tuple(msg.landing_depths)
+                if not all(math.isfinite(d) and 0.0 <= d <= MAX_LANDING_DEPTH for d in depths):
+                    raise ValueError(f'landing_depths {depths} must be in [0, '
+                                     f'{MAX_LANDING_DEPTH}] m')
+                held = self._session.hold_landing(t, tuple(msg.landing_modes), depths)
         except (BipedPlannerError, ValueError) as error:
             self._reject('balance_estimate', error)
             return
-        if adjustment is not None:
-            self._publish_adjustment(adjustment, msg.header.stamp)
+        for change in (adjustment, held):
+            if change is not None:
+                self._publish_adjustment(change, msg.header.stamp)
 
     def _publish_adjustment(self, adjustment, stamp) -> None:
         """:param stamp: the time of the estimate it answers"""
-        msg = StepAdjustment(plan_id=adjustment.plan_id, revision=adjustment.revision,
+        kind = StepAdjustment.KIND_HELD if adjustment.kind == KIND_HELD \
+            else StepAdjustment.KIND_MOVED
+        msg = StepAdjustment(kind=kind, plan_id=adjustment.plan_id, revision=adjustment.revision,
                              step_index=adjustment.step_index,
                              touchdown_time=adjustment.touchdown,
                              planned_touchdown_time=adjustment.planned_touchdown,
@@ -291,6 +312,12 @@ class ReferenceGeneratorNode(Node):
         msg.header.stamp = stamp
         msg.header.frame_id = self._frame
         self._adjustment_pub.publish(msg)
+        if adjustment.kind == KIND_HELD:  # the footsteps stay: the planner has nothing to send
+            self.get_logger().info(
+                f'step {adjustment.step_index} held for a late landing (plan '
+                f'{adjustment.plan_id}, revision {adjustment.revision}): touchdown at '
+                f't={adjustment.touchdown:.3f} s (planned {adjustment.planned_touchdown:.3f} s)')
+            return
         # the planner republishes the plan stamped with it: awaited as an extension
         plan_id, stamps = self._adjustments
         if plan_id != adjustment.plan_id:

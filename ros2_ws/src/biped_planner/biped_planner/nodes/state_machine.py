@@ -411,13 +411,20 @@ class StateMachineNode(Node):
             self._reject('step_adjustment', f'touchdown_time {msg.touchdown_time!r} s is not '
                          f'within {MAX_ADJUSTMENT_LEAD} s of the clock ({now:.3f} s)')
             return
+        if msg.kind not in (StepAdjustment.KIND_MOVED, StepAdjustment.KIND_HELD):
+            self._reject('step_adjustment', f'unknown kind {msg.kind}')
+            return
+        held = msg.kind == StepAdjustment.KIND_HELD
         try:
-            moved = self._machine.retime_single_support(msg.step_index, msg.touchdown_time)
+            retime = self._machine.hold_single_support if held else \
+                self._machine.retime_single_support
+            moved = retime(msg.step_index, msg.touchdown_time)
         except CommandError as error:
             self._reject('step_adjustment', error)
             return
         if moved:
-            self.get_logger().info(f'step {msg.step_index}: touchdown moved to '
+            what = 'held for a late landing until' if held else 'moved to'
+            self.get_logger().info(f'step {msg.step_index}: touchdown {what} '
                                    f't={msg.touchdown_time:.3f} s (revision {msg.revision})')
             self._publish(self._machine.status, now)
         else:
