@@ -27,3 +27,20 @@ def test_every_stabilizer_term_is_copied_into_the_message():
     assert list(diag.foot_torque_errors) == [0.0, 1.0, 2.0, 3.0]
     assert list(diag.foot_contacts) == [False, True]
     assert list(diag.landing_modes) == ['swinging', 'support']
+
+
+def test_the_landing_of_the_last_cycle_fills_the_balance_estimate_in_the_planner_words():
+    from biped_mpc.nodes.conversions import landing_of
+    from biped_msgs.msg import BalanceEstimate
+    from biped_planner.landing_hold import LANDING_STATES
+    output = SimpleNamespace(landing_modes=('support', 'seeking'),
+                             landing_depths=np.array([0.0, 0.012]))
+    msg = BalanceEstimate()
+    msg.landing_modes, msg.landing_depths = landing_of(output)
+    assert list(msg.landing_modes) == ['none', 'seeking']
+    assert list(msg.landing_depths) == [0.0, 0.012]
+    assert set(msg.landing_modes) <= set(LANDING_STATES)
+    assert landing_of(None) == (['none', 'none'], [0.0, 0.0])  # before the first cycle
+    # every mode the controller's landing logic has is one the landing hold knows
+    from biped_mpc.balance.swing_landing import FAILED, LANDED, SEEKING, SWINGING
+    assert {SWINGING, SEEKING, LANDED, FAILED} <= set(LANDING_STATES)
