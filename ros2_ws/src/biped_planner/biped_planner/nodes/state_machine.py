@@ -458,7 +458,11 @@ class StateMachineNode(Node):
             return  # fallen just after a reset: measured before it (this clock may lag)
         if reason is not None:
             self._requests.cancel_start()
-            self._publish_transitions(self._machine.report_fall(now, reason), now)
+            # timed by the odometry that shows it, not by when this callback ran: on sim time
+            # the clock can be a period on by then, more on a loaded machine (a fall on the
+            # tiles came at 1.5 s in a quiet run and 1.52 s in a loaded one)
+            at = max(stamp, self._machine.status.phase_start)
+            self._publish_transitions(self._machine.report_fall(at, reason), now)
 
     # --- reset ------------------------------------------------------------------------------
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
