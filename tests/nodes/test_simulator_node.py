@@ -493,3 +493,37 @@ def test_a_late_command_with_a_bad_value_is_refused_for_its_value(sim):
     commands.publish(late)
     assert spin_until(sim['executor'], lambda: rosout.has('joint_commands rejected',
                                                           'not finite'), 10)
+
+
+def test_a_map_that_changes_no_obstacle_leaves_the_tiles_under_the_feet_alone(ros_context,
+                                                                              executor):
+    """The latched map arrives at a moment that depends on the machine's load: rebuilt
+    then, the tiles under the standing feet were new bodies and the contact solver started
+    over (a tile trial crossed on a loaded machine where it fell on a quiet one)."""
+    from nav_msgs.msg import OccupancyGrid
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+    node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('real_time_factor', value=5.0), Parameter('terrain.kind', value=1),
+        Parameter('terrain.origin_x', value=-0.5), Parameter('terrain.origin_y', value=-0.5),
+        Parameter('terrain.side_length', value=1.0), Parameter('terrain.seed', value=4)]))
+    client = executor.track(rclpy.create_node('sim_map_client', context=ros_context))
+    rosout = RosoutLines(client)
+    tiles = list(node._backend._scenery._bodies)
+    assert tiles
+    publisher = client.create_publisher(OccupancyGrid, 'map', QoSProfile(
+        depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    assert wait_for_subscribers(executor, publisher)
+    grid = OccupancyGrid()
+    grid.header.frame_id = 'map'
+    grid.info.resolution, grid.info.width, grid.info.height = 0.1, 4, 4
+    grid.info.origin.position.x = 2.0
+    grid.info.origin.orientation.w = 1.0
+    grid.data = [0] * 16
+    publisher.publish(grid)
+    assert spin_until(executor, lambda: rosout.has('0 obstacle boxes from the map',
+                                                   'unchanged'), 10)
+    assert node._backend._scenery._bodies == tiles  # the same bodies
+    grid.data = [100] + [0] * 15
+    publisher.publish(grid)
+    assert spin_until(executor, lambda: rosout.has('1 obstacle boxes from the map'), 10)
+    assert len(node._backend._scenery._bodies) == len(tiles) + 1

@@ -526,6 +526,13 @@ class SimulatorNode(Node):
         except (ValueError, BipedSimError) as error:
             self._reject('map', error)
             return
+        if list(boxes) == list(self._map_boxes):
+            # Rebuilt, the scenery's bodies are new ones under feet at rest on them: the contact
+            # solver starts over, and the robot was nudged by a map that changed nothing, as
+            # late as the latched map happened to arrive (on the tiles, a run crossed where
+            # the same run fell, depending on the machine's load)
+            self.get_logger().info(f'{len(boxes)} obstacle boxes from the map (unchanged)')
+            return
         self._map_boxes = boxes
         self._rebuild_scenery()
         self.get_logger().info(f'{len(self._map_boxes)} obstacle boxes from the map')
