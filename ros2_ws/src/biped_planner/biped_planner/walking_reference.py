@@ -316,12 +316,7 @@ class WalkingReference:
         cut = self.single_support_at(t_now)
         if cut is None:
             raise ConfigError(f't_now={t_now} s is not in a single support phase')
-        if (hip is None) != (dcm is None):
-            raise ConfigError('hip and dcm are given together or not at all')
-        if hip is None:
-            hip, dcm = self._lipm.state_at(t_now)
-        hip = check_finite_array('hip (x, y)', hip, shape=(2,))
-        dcm = check_finite_array('dcm (x, y)', dcm, shape=(2,))
+        hip, dcm = self._state_at(t_now, hip, dcm)
         phase = self._phases.phases[cut]
         step = phase.step_index - 1
         all_footsteps = self._footsteps[:step + 2] + footsteps
@@ -405,12 +400,7 @@ class WalkingReference:
         if not touchdown > landing_time:
             raise ConfigError(f'touchdown {touchdown} s must be after the planned landing '
                               f'{landing_time} s')
-        if (hip is None) != (dcm is None):
-            raise ConfigError('hip and dcm are given together or not at all')
-        if hip is None:
-            hip, dcm = self._lipm.state_at(t_now)
-        hip = check_finite_array('hip (x, y)', hip, shape=(2,))
-        dcm = check_finite_array('dcm (x, y)', dcm, shape=(2,))
+        hip, dcm = self._state_at(t_now, hip, dcm)
         step = swing_phase.step_index - 1
         old_timing = self._step_timings[step]
         timings = list(self._step_timings)
@@ -461,6 +451,15 @@ class WalkingReference:
                 phases[index - 1].step_index == phases[index].step_index:
             index -= 1  # the hold of a held step: its swing is the phase before
         return index
+
+    def _state_at(self, t: float, hip, dcm) -> Tuple[np.ndarray, np.ndarray]:
+        """(hip, dcm) given for a replan at t, checked, or this reference's own."""
+        if (hip is None) != (dcm is None):
+            raise ConfigError('hip and dcm are given together or not at all')
+        if hip is None:
+            hip, dcm = self._lipm.state_at(t)
+        return (check_finite_array('hip (x, y)', hip, shape=(2,)),
+                check_finite_array('dcm (x, y)', dcm, shape=(2,)))
 
     def _replanned_from(self, cut: int, rows: PhaseRows, footsteps: Tuple[Footstep, ...],
                         timings: list, t_now: float, hip: np.ndarray,
