@@ -8,8 +8,9 @@ The late walk-through is marked xfail: it passed in a run of several trials on o
 and failed on a fresh one (docs/simulator_notes.md): the landing works step by step but the
 walk after it is marginal (its foot lands on the lane's edge, heel on the platform). The early
 one was too, until a seeking foot was no longer refused by the touchdown detector's distance
-gate (2026-12-05, late): it walks through on fresh backends. The hip strategy is off: with it, the late touchdown is
-walked through without the contact-aware landing too, and the landing is what is tested here.
+gate (2026-12-05, late): it walks through on fresh backends. The hip strategy is off: with
+it, the late touchdown is walked through without the contact-aware landing too, and the
+landing is what is tested here.
 So is the swing lag (swing_smoothing_time_constant, 0.07 s by default): with it the late
 touchdown is walked through without the landing as well (one run, 2026-12-04), and so is the
 ground conformance (with it the late touchdown is walked through without the landing too,
