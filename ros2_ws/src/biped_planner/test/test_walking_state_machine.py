@@ -203,20 +203,12 @@ def test_a_late_landing_holds_the_single_support_from_its_double_support():
     assert not machine.hold_single_support(machine.status.step_index, 0.5)  # before start
 
 
+@pytest.mark.parametrize('retime', ['retime_single_support', 'hold_single_support'])
 @pytest.mark.parametrize('end', [math.nan, math.inf])
-def test_a_non_finite_held_touchdown_is_a_command_error(end):
+def test_a_non_finite_adjusted_or_held_touchdown_is_a_command_error(retime, end):
     machine = WalkingStateMachine(PARAMS)
     machine.request_start(0.0)
     run(machine, 1.1)
     with pytest.raises(CommandError):
-        machine.hold_single_support(0, end)
-
-
-@pytest.mark.parametrize('end', [math.nan, math.inf])
-def test_a_non_finite_adjusted_touchdown_is_a_command_error(end):
-    machine = WalkingStateMachine(PARAMS)
-    machine.request_start(0.0)
-    run(machine, 1.1)
-    with pytest.raises(CommandError):
-        machine.retime_single_support(0, end)
+        getattr(machine, retime)(0, end)
     assert machine.status.phase_duration == pytest.approx(0.4)
