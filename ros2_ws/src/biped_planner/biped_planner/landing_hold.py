@@ -7,7 +7,6 @@ stays on the stance foot, the double support and every later phase wait, and the
 the state machine and the MPC agree on the new timing. The touchdown ends the hold.
 """
 from dataclasses import dataclass
-import math
 from typing import Optional, Sequence
 
 from biped_planner.errors import ConfigError, InputError
@@ -28,6 +27,7 @@ RESUME = 'resume'
 # s from the report of the touchdown to the end of the hold: the next period's reference is
 # already in the double support
 RESUME_LEAD = 1e-3
+MAX_LANDING_DEPTH = 1.0  # m: a reported search deeper than this is not a foot's
 
 
 @dataclass(frozen=True)
@@ -84,24 +84,34 @@ class LandingHold:
     def __init__(self, params: LandingHoldParams = LandingHoldParams()) -> None:
         self.params = params
 
-    def update(self, t: float, reference, landing: str, depth: float = 0.0,
+    def update(self, t: float, reference, modes: Sequence[str],
+               depths: Sequence[float] = (0.0, 0.0),
                hip: Optional[Sequence[float]] = None,
                dcm: Optional[Sequence[float]] = None) -> Optional[LandingHoldChange]:
         """One period.
 
-        :param t: time of the landing state (s)
-        :param reference: the WalkingReference walked
-        :param landing: the swing foot's landing state (LANDING_STATES)
-        :param depth: how far below its planned landing height the seeking foot's target is (m)
+        :param t: time of the landing report (s)
+        :param reference: the WalkingReference walked, None when no walk is under way
+        :param modes: (left, right) landing states of the feet (LANDING_STATES); the swing
+            foot's is answered
+        :param depths: (left, right) how far below its planned landing height a seeking
+            foot's target is (m)
         :param hip: (2,) estimated hip (COM) at t (m) to replan from, None for the plan's
         :param dcm: (2,) estimated DCM at t (m), with hip
         :return: the change, or None (off, no late swing, nothing to change)
-        :raises InputError: for an unknown landing state or a depth not finite and >= 0
+        :raises InputError: for a report that is not two known states and two depths finite
+            and in [0, MAX_LANDING_DEPTH] (checked whether or not the hold is on)
         """
-        if landing not in LANDING_STATES:
-            raise InputError(f'landing state must be one of {LANDING_STATES}, got {landing!r}')
-        if not (isinstance(depth, (int, float)) and 0.0 <= depth < math.inf):
-            raise InputError(f'landing depth must be a finite number >= 0 (m), got {depth!r}')
+        modes, depths = tuple(modes), tuple(depths)
+        if len(modes) != 2 or len(depths) != 2:
+            raise InputError(f'landing modes and depths must be (left, right), got {modes} and '
+                             f'{depths}')
+        if not all(mode in LANDING_STATES for mode in modes):
+            raise InputError(f'landing modes must be in {LANDING_STATES}, got {modes}')
+        if not all(isinstance(d, (int, float)) and 0.0 <= d <= MAX_LANDING_DEPTH
+                   for d in depths):
+            raise InputError(f'landing depths {depths} must be finite and in [0, '
+                             f'{MAX_LANDING_DEPTH}] m')
         if not self.params.enabled or reference is None:
             return None
         swing = reference.swing_of_late_landing(t)
@@ -110,6 +120,7 @@ class LandingHold:
         phases = reference.phases
         phase = phases[swing]
         step = phase.step_index - 1
+        landing, depth = modes[phase.swing_side], float(depths[phase.swing_side])
         held = swing + 1 < len(phases) and phases[swing + 1].kind == PHASE_SINGLE_SUPPORT \
             and phases[swing + 1].step_index == phase.step_index
         if not held:

@@ -19,7 +19,7 @@ from typing import List, Optional, Sequence, Tuple
 
 from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
-from biped_planner.landing_hold import LANDING_STATES, LandingHold
+from biped_planner.landing_hold import LandingHold
 from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_window import joined_at, ReferenceWindow
@@ -125,8 +125,7 @@ class ReferenceSession:
             timing"""
         self._params = params
         self._adjuster = adjuster if adjuster is not None and adjuster.params.enabled else None
-        self._landing_hold = landing_hold if landing_hold is not None and \
-            landing_hold.params.enabled else None
+        self._landing_hold = landing_hold if landing_hold is not None else LandingHold()
         self._walk_holds = 0
         self._adjustments = 0
         self._walk_adjustments = 0
@@ -217,23 +216,11 @@ class ReferenceSession:
         :param com: (2,) estimated COM to replan the hip from, None for the plan's
         :param dcm: (2,) estimated DCM, with com
         :return: the hold or resume, for the graph to follow (kind KIND_HELD), else None
-        :raises InputError: for modes or depths that are not two valid values
+        :raises InputError: for modes or depths that are not two valid values (LandingHold)
         """
-        modes, depths = tuple(modes), tuple(depths)
-        if len(modes) != 2 or len(depths) != 2:
-            raise InputError(f'landing modes and depths must be (left, right), got {modes} and '
-                             f'{depths}')
-        if not all(mode in LANDING_STATES for mode in modes):
-            raise InputError(f'landing modes must be in {LANDING_STATES}, got {modes}')
-        if self._landing_hold is None or self._reference is None or \
-                self._walk_start is None or t < self._walk_start:
-            return None
-        swing = self._reference.swing_of_late_landing(t)
-        if swing is None:
-            return None
-        side = self._reference.phases[swing].swing_side
-        change = self._landing_hold.update(t, self._reference, str(modes[side]),
-                                           float(depths[side]), com, dcm)
+        walking = self._walk_start is not None and t >= self._walk_start
+        change = self._landing_hold.update(t, self._reference if walking else None, modes,
+                                           depths, com, dcm)
         if change is None:
             return None
         self._reference = change.reference

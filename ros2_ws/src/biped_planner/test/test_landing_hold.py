@@ -160,6 +160,11 @@ HOLD_PARAMS = LandingHoldParams(enabled=True, hold_time=0.2, min_depth=0.005)
 DEEP = 0.006  # m below the planned landing height: past min_depth
 
 
+def right(state, depth=0.0):
+    """The (modes, depths) report of the swinging right foot (step 1), the left one down."""
+    return (LANDING_NONE, state), (0.0, depth)
+
+
 @pytest.mark.parametrize('t, landing', [
     (1.8, LANDING_SEEKING),    # before the planned landing (1.9 s)
     (1.92, LANDING_SWINGING),  # late without a report of seeking
@@ -169,17 +174,18 @@ DEEP = 0.006  # m below the planned landing height: past min_depth
     (2.15, LANDING_SEEKING),   # past the longest hold
 ])
 def test_the_plan_holds_only_a_swing_seeking_past_its_landing(t, landing):
-    assert LandingHold(HOLD_PARAMS).update(t, REFERENCE, landing, DEEP) is None
+    assert LandingHold(HOLD_PARAMS).update(t, REFERENCE, *right(landing, DEEP)) is None
 
 
 def test_a_foot_still_above_the_landing_depth_threshold_is_not_held():
     # on flat ground a lagging swing meets the ground millimetres into its search
-    assert LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, LANDING_SEEKING, 0.004) is None
+    seeking_shallow = right(LANDING_SEEKING, 0.004)
+    assert LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, *seeking_shallow) is None
 
 
 def test_a_seeking_swing_holds_then_its_touchdown_resumes():
     hold = LandingHold(HOLD_PARAMS)
-    change = hold.update(1.92, REFERENCE, LANDING_SEEKING, DEEP)
+    change = hold.update(1.92, REFERENCE, *right(LANDING_SEEKING, DEEP))
     assert (change.kind, change.step) == (HOLD, 1)
     assert change.touchdown == pytest.approx(1.9 + 0.2) and change.planned_touchdown == 1.9
     held = change.reference
@@ -187,37 +193,38 @@ def test_a_seeking_swing_holds_then_its_touchdown_resumes():
     assert held.phases[swing + 1].t_end == pytest.approx(2.1)
     # the step adjuster leaves a held step alone: its swing is over
     assert swing_step_at(held, 1.95) is None and swing_step_at(held, 1.8) is not None
-    assert hold.update(1.96, held, LANDING_SEEKING, DEEP) is None  # still seeking: it waits
-    resumed = hold.update(1.98, held, LANDING_LANDED)
+    # still seeking: it waits
+    assert hold.update(1.96, held, *right(LANDING_SEEKING, DEEP)) is None
+    resumed = hold.update(1.98, held, *right(LANDING_LANDED))
     assert (resumed.kind, resumed.step) == (RESUME, 1)
     assert resumed.touchdown == pytest.approx(1.98 + RESUME_LEAD)
     assert resumed.planned_touchdown == pytest.approx(2.1)
     assert resumed.reference.phases[swing + 1].t_end == pytest.approx(1.98 + RESUME_LEAD)
     assert resumed.reference.sample(1.99, 1, 0.01).support[0] == SUPPORT_DOUBLE
     # once resumed, the double support goes on
-    assert hold.update(1.99, resumed.reference, LANDING_LANDED) is None
+    assert hold.update(1.99, resumed.reference, *right(LANDING_LANDED)) is None
 
 
 @pytest.mark.parametrize('landing', [LANDING_FAILED, LANDING_NONE, LANDING_SWINGING])
 def test_a_hold_ends_when_the_foot_stops_seeking_for_any_reason(landing):
     hold = LandingHold(HOLD_PARAMS)
-    held = hold.update(1.92, REFERENCE, LANDING_SEEKING, DEEP).reference
-    assert hold.update(2.0, held, landing).kind == RESUME
+    held = hold.update(1.92, REFERENCE, *right(LANDING_SEEKING, DEEP)).reference
+    assert hold.update(2.0, held, *right(landing)).kind == RESUME
 
 
 def test_a_hold_that_runs_out_lets_the_plan_go_on():
     hold = LandingHold(HOLD_PARAMS)
-    held = hold.update(1.92, REFERENCE, LANDING_SEEKING, DEEP).reference
-    assert hold.update(2.1, held, LANDING_LANDED) is None  # the double support began
+    held = hold.update(1.92, REFERENCE, *right(LANDING_SEEKING, DEEP)).reference
+    assert hold.update(2.1, held, *right(LANDING_LANDED)) is None  # the double support began
     assert held.sample(2.1, 1, 0.01).support[0] == SUPPORT_DOUBLE
 
 
 def test_off_by_default_and_unknown_states_rejected():
-    assert LandingHold().update(1.92, REFERENCE, LANDING_SEEKING, DEEP) is None
+    assert LandingHold().update(1.92, REFERENCE, *right(LANDING_SEEKING, DEEP)) is None
     with pytest.raises(InputError):
-        LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, 'hovering')
-    for depth in (math.nan, -0.01, math.inf):
+        LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, *right('hovering'))
+    for depth in (math.nan, -0.01, math.inf, 2.0):
         with pytest.raises(InputError):
-            LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, LANDING_SEEKING, depth)
+            LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, *right(LANDING_SEEKING, depth))
     with pytest.raises(ConfigError):
         LandingHoldParams(hold_time=-0.1)

@@ -14,7 +14,8 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from biped_planner.landing_hold import LANDING_NONE, LandingHold
+from biped_mpc.balance.balance_loop import landing_report
+from biped_planner.landing_hold import LandingHold
 from biped_planner.walking_reference import WalkingReference
 
 from biped_sim.errors import ConfigError
@@ -132,23 +133,17 @@ class HeldWalk:
         self._observed: Optional[tuple] = None
 
     def observe_output(self, t: float, output) -> None:
-        """Keep the swing foot's landing state of the cycle at t (output.landing_modes and
+        """Keep the feet's landing report of the cycle at t (output.landing_modes and
         landing_depths)."""
-        swing = self.reference.swing_of_late_landing(t)
-        if swing is None:
-            self._observed = None
-            return
-        side = self.reference.phases[swing].swing_side
-        mode = output.landing_modes[side]
-        self._observed = (float(t), LANDING_NONE if mode == 'support' else str(mode),
-                          float(output.landing_depths[side]))
+        self._observed = (float(t), *landing_report(output.landing_modes,
+                                                    output.landing_depths))
 
     def window(self, t: float, n: int, dt: float):
         """The reference window of n samples from t, after the hold answered the last state."""
         if self._observed is not None:
-            t_seen, landing, depth = self._observed
+            t_seen, modes, depths = self._observed
             self._observed = None
-            change = self.hold.update(t_seen, self.reference, landing, depth)
+            change = self.hold.update(t_seen, self.reference, modes, depths)
             if change is not None:
                 self.reference = change.reference
                 self.changes.append((t_seen, change))

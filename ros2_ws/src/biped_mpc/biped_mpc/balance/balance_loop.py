@@ -20,7 +20,7 @@ The joint servos stay stiff: only the references move.
 import collections
 from dataclasses import dataclass, replace
 import math
-from typing import Optional
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -34,17 +34,25 @@ from biped_mpc.balance.partial_foothold import PartialFoothold, PartialFootholdP
 from biped_mpc.balance.stabilizer import (
     Stabilizer, StabilizerMeasurement, StabilizerOutput, StabilizerParams, StabilizerReference)
 from biped_mpc.balance.swing_landing import (
-    FAILED, LANDED, SEEKING, SwingLanding, SwingLandingParams)
+    FAILED, LANDED, SEEKING, SwingLanding, SwingLandingParams, SwingLandingResult)
 from biped_mpc.balance.touchdown_detector import TouchdownDetector, TouchdownParams
 from biped_mpc.balance.vertical_drift import VerticalDriftParams
 from biped_mpc.balance.wrench_distribution import WrenchDistributionParams
 from biped_mpc.ik_targets import IkTargets
 from biped_mpc.stance_feet import on_support
 from biped_planner.footsteps import SIDE_NAMES
+from biped_planner.landing_hold import LANDING_NONE
 from biped_planner.rotations import yaw_of_matrix
 from biped_planner.sides import SIDES
 
 PLANNED_SUPPORT = 'support'
+
+
+def landing_report(modes: Sequence[str], depths) -> Tuple[list, list]:
+    """(left, right) landing modes and search depths in the words of the plan's landing hold
+    (biped_planner.landing_hold): a foot the plan has on the ground is 'none' there."""
+    return ([LANDING_NONE if mode == PLANNED_SUPPORT else str(mode) for mode in modes],
+            [float(depth) for depth in depths])
 
 
 @dataclass(frozen=True)
@@ -423,11 +431,12 @@ class BalanceLoop:
             else None)
         output = self.stabilizer.update(dt, reference, measurement)
         modes = [PLANNED_SUPPORT, PLANNED_SUPPORT]
-        self._depths = [0.0, 0.0]
+        depths = [0.0, 0.0]
         for side in SIDES:
             feet[side][2] += output.vertical_offsets[side]
             if self._active[side] and self.params.contact_aware_landing:
-                modes[side] = self._land(t, dt, side, feet[side], sensed, soles)
+                landing = self._land(t, dt, side, feet[side], sensed, soles)
+                modes[side], depths[side] = landing.mode, landing.extra_depth
         pelvis_target = targets.pelvis.copy()
         pelvis_target[:2] += self._admittance(dt, sensed.zmp, output.zmp)
         # In single support only: on two feet an excess comes from soles resting on tile edges,
@@ -447,12 +456,11 @@ class BalanceLoop:
                                                   loaded)
         stabilized = IkTargets(pelvis_target, feet[0], feet[1], targets.yaw,
                                output.ankle_offsets + conformance, trunk)
-        return BalanceResult(stabilized, output, tuple(modes), conformance,
-                             tuple(self._depths))
+        return BalanceResult(stabilized, output, tuple(modes), conformance, tuple(depths))
 
     def _land(self, t: float, dt: float, side: int, foot: np.ndarray, sensed: SensedFeet,
-              soles: tuple) -> str:
-        """Contact-aware end of a swing on the foot target (in place); returns the mode."""
+              soles: tuple) -> SwingLandingResult:
+        """Contact-aware end of a swing on the foot target (in place); returns the landing."""
         swing = self._swings[side]
         touching = swing.lifted and (sensed.wrenches[side].normal_force
                                      > self.params.touchdown.off_force)
@@ -464,8 +472,7 @@ class BalanceLoop:
             # the landing logic (a landed foot frozen where its lagging target was stood 1-3
             # cm short of it and slid back).
             foot[2] = landing.height
-        self._depths[side] = landing.extra_depth
-        return landing.mode
+        return landing
 
     def _admittance(self, dt: float, measured_zmp: np.ndarray,
                     desired_zmp: np.ndarray) -> np.ndarray:

@@ -5,6 +5,8 @@ from biped_msgs.msg import ControllerDiagnostics
 from geometry_msgs.msg import Pose, PoseArray
 import numpy as np
 
+from biped_mpc.balance.balance_loop import landing_report
+from biped_planner.landing_hold import LANDING_NONE
 from biped_planner.rotations import quaternion_from_yaw, quaternion_to_matrix
 
 
@@ -82,9 +84,8 @@ def landing_of(output) -> tuple:
     """BalanceEstimate's landing_modes and landing_depths from a cycle's output (None: no
     cycle yet): 'support' (a foot the plan has on the ground) is 'none' there."""
     if output is None:
-        return ['none', 'none'], [0.0, 0.0]
-    modes = ['none' if mode == 'support' else str(mode) for mode in output.landing_modes]
-    return modes, [float(depth) for depth in output.landing_depths]
+        return [LANDING_NONE, LANDING_NONE], [0.0, 0.0]
+    return landing_report(output.landing_modes, output.landing_depths)
 
 
 def deadline_terms(diag: ControllerDiagnostics, monitor) -> None:

@@ -104,7 +104,6 @@ STANDING_PATIENCE = 5.0
 # does not order two topics, and on a loaded machine it can come second (the step adjuster would
 # then answer it a period later in one run than in another)
 ESTIMATE_WAIT = 0.02
-MAX_LANDING_DEPTH = 1.0  # m: a reported search deeper than this is not a foot's
 
 
 class ExtensionWait(NamedTuple):
@@ -288,11 +287,7 @@ class ReferenceGeneratorNode(Node):
             adjustment = self._session.adjust(t, com, dcm)
             held = None
             if self._hold_params.enabled:
-                depths = tuple(msg.landing_depths)
-                if not all(math.isfinite(d) and 0.0 <= d <= MAX_LANDING_DEPTH for d in depths):
-                    raise ValueError(f'landing_depths {depths} must be in [0, '
-                                     f'{MAX_LANDING_DEPTH}] m')
-                held = self._session.hold_landing(t, tuple(msg.landing_modes), depths)
+                held = self._session.hold_landing(t, msg.landing_modes, msg.landing_depths)
         except (BipedPlannerError, ValueError) as error:
             self._reject('balance_estimate', error)
             return
