@@ -312,6 +312,23 @@ def test_fall_reported_by_odometry_and_reset(graph):
     assert g['states'].messages[-1].phase == WalkingState.IDLE
 
 
+def test_a_fall_before_a_scheduled_start_is_timed_by_the_odometry_that_shows_it(graph):
+    """A walk sent with a start_time enters Initialize phased at that time; the robot falls
+    before it, and the fallen odometry is handled a while after its stamp (a loaded machine):
+    FALLEN starts at the odometry's stamp, not at the walk's start or the handling time."""
+    g = graph
+    t = g['clock'].t
+    assert send(g, command=WalkCommand.START, start_time=t + 5.0).accepted
+    g['clock'].advance(0.2)
+    g['odom'].publish(odometry(t + 0.02, z=0.2))
+    assert spin_until(g['executor'], lambda: g['states'].messages[-1].fallen, 5.0)
+    fallen = g['states'].messages[-1]
+    stamp = fallen.header.stamp.sec + fallen.header.stamp.nanosec * 1e-9
+    assert fallen.phase == WalkingState.FALLEN
+    assert stamp == pytest.approx(t + 0.2, abs=1e-6)
+    assert stamp - fallen.time_in_phase == pytest.approx(t + 0.02, abs=1e-6)
+
+
 def test_impossible_odometry_is_rejected_and_valid_odometry_still_counts(graph):
     g = graph
     t = g['clock'].t

@@ -458,11 +458,11 @@ class StateMachineNode(Node):
             return  # fallen just after a reset: measured before it (this clock may lag)
         if reason is not None:
             self._requests.cancel_start()
-            # timed by the odometry that shows it, not by when this callback ran: on sim time
-            # the clock can be a period on by then, more on a loaded machine (a fall on the
-            # tiles came at 1.5 s in a quiet run and 1.52 s in a loaded one)
-            at = max(stamp, self._machine.status.phase_start)
-            self._publish_transitions(self._machine.report_fall(at, reason), now)
+            # timed by the odometry that shows it, not by when this callback ran (on sim time
+            # the clock can be a period on by then, more on a loaded machine), nor by the start
+            # of the phase it interrupts: a walk's start_time enters Initialize at once, phased
+            # in the future, and a fall before it came at the time the state was published
+            self._publish_transitions(self._machine.report_fall(stamp, reason), now)
 
     # --- reset ------------------------------------------------------------------------------
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
