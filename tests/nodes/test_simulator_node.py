@@ -7,6 +7,7 @@ from builtin_interfaces.msg import Time
 from geometry_msgs.msg import WrenchStamped
 from nav_msgs.msg import Odometry
 import pytest
+import pybullet
 import rclpy
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
@@ -495,11 +496,11 @@ def test_a_late_command_with_a_bad_value_is_refused_for_its_value(sim):
                                                           'not finite'), 10)
 
 
-def test_a_map_that_changes_no_obstacle_leaves_the_tiles_under_the_feet_alone(ros_context,
-                                                                              executor):
+def test_a_map_leaves_the_tiles_under_the_feet_alone(ros_context, executor):
     """The latched map arrives at a moment that depends on the machine's load: rebuilt
     then, the tiles under the standing feet were new bodies and the contact solver started
-    over (a tile trial crossed on a loaded machine where it fell on a quiet one)."""
+    over (a tile trial crossed on a loaded machine where it fell on a quiet one). An unchanged
+    map rebuilds nothing, a changed one only the obstacles."""
     from nav_msgs.msg import OccupancyGrid
     from rclpy.qos import DurabilityPolicy, QoSProfile
     node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
@@ -508,7 +509,7 @@ def test_a_map_that_changes_no_obstacle_leaves_the_tiles_under_the_feet_alone(ro
         Parameter('terrain.side_length', value=1.0), Parameter('terrain.seed', value=4)]))
     client = executor.track(rclpy.create_node('sim_map_client', context=ros_context))
     rosout = RosoutLines(client)
-    tiles = list(node._backend._scenery._bodies)
+    tiles = list(node._backend._scenery.bodies)
     assert tiles
     publisher = client.create_publisher(OccupancyGrid, 'map', QoSProfile(
         depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
@@ -522,8 +523,19 @@ def test_a_map_that_changes_no_obstacle_leaves_the_tiles_under_the_feet_alone(ro
     publisher.publish(grid)
     assert spin_until(executor, lambda: rosout.has('0 obstacle boxes from the map',
                                                    'unchanged'), 10)
-    assert node._backend._scenery._bodies == tiles  # the same bodies
+    assert node._backend._scenery.bodies == tiles  # the same bodies
     grid.data = [100] + [0] * 15
     publisher.publish(grid)
     assert spin_until(executor, lambda: rosout.has('1 obstacle boxes from the map'), 10)
-    assert len(node._backend._scenery._bodies) == len(tiles) + 1
+    bodies = node._backend._scenery.bodies
+    assert bodies[:len(tiles)] == tiles and len(bodies) == len(tiles) + 1  # the tiles kept
+    grid.data = [0] * 15 + [100]  # the obstacle moved to the grid's far corner
+    publisher.publish(grid)
+
+    def obstacle_x():
+        body = node._backend._scenery.bodies[-1]
+        return pybullet.getBasePositionAndOrientation(
+            body, physicsClientId=node._backend._client)[0][0]
+    assert obstacle_x() == pytest.approx(2.05, abs=1e-6)
+    assert spin_until(executor, lambda: abs(obstacle_x() - 2.35) < 1e-6, 10)  # float32
+    assert node._backend._scenery.bodies[:len(tiles)] == tiles  # the tiles kept again

@@ -331,6 +331,18 @@ class PyBulletBackend(SimulatorBackend):
         self._scenery.clear()
         self._terrain = None
 
+    def clear_terrain(self) -> None:
+        """Remove the terrain's tiles; the obstacles stay."""
+        self._check_open()
+        self._scenery.clear_terrain()
+        self._terrain = None
+
+    def clear_obstacles(self) -> None:
+        """Remove the obstacles; the terrain's tiles stay (a new map leaves the ground under
+        the feet as it is)."""
+        self._check_open()
+        self._scenery.clear_obstacles()
+
     def render(self, view: CameraView = CameraView()) -> np.ndarray:
         """Render a camera frame (no GPU needed); a view without target follows the base.
 

@@ -23,7 +23,8 @@ MAX_SHAPES_PER_BODY = 16  # createVisualShapeArray segfaults with more (PyBullet
 
 
 class PyBulletScenery:
-    """The static bodies added to a PyBullet world, and their removal.
+    """The static bodies added to a PyBullet world, and their removal: the terrain's and the
+    obstacles' apart, so a new map leaves the tiles under the feet as they are.
 
     :param client: PyBullet physics client id.
     :param friction: lateral friction coefficient of the bodies.
@@ -32,7 +33,13 @@ class PyBulletScenery:
     def __init__(self, client: int, friction: float) -> None:
         self._client = client
         self._friction = friction
-        self._bodies: list = []
+        self._terrain_bodies: list = []
+        self._obstacle_bodies: list = []
+
+    @property
+    def bodies(self) -> list:
+        """The body ids of the terrain's tiles, then of the obstacles."""
+        return self._terrain_bodies + self._obstacle_bodies
 
     def add_terrain(self, terrain: Terrain, colour_bins: int = 8) -> list:
         """Build the tiles of a terrain as static boxes, coloured by height.
@@ -63,7 +70,7 @@ class PyBulletScenery:
                 half_extents = [[half_side, half_side, 0.5 * heights[k]] for k in chunk]
                 frames = [[centres[k, 0], centres[k, 1], 0.5 * heights[k]] for k in chunk]
                 ids.append(self._static_compound(half_extents, frames, colour))
-        self._bodies.extend(ids)
+        self._terrain_bodies.extend(ids)
         return ids
 
     def _static_compound(self, half_extents: list, frames: list, colour: list) -> int:
@@ -111,14 +118,27 @@ class PyBulletScenery:
                 0.0, collision, visual, [obstacle.x, obstacle.y, 0.5 * obstacle.height],
                 pybullet.getQuaternionFromEuler([0.0, 0.0, yaw]), physicsClientId=client)
             ids.append(body)
-        self._bodies.extend(ids)
+        self._obstacle_bodies.extend(ids)
         return ids
 
     def clear(self) -> None:
         """Remove every terrain tile and obstacle added so far."""
-        for body in self._bodies:
+        self.clear_terrain()
+        self.clear_obstacles()
+
+    def clear_terrain(self) -> None:
+        """Remove the terrain's tiles; the obstacles stay."""
+        self._remove(self._terrain_bodies)
+        self._terrain_bodies = []
+
+    def clear_obstacles(self) -> None:
+        """Remove the obstacles; the terrain's tiles stay."""
+        self._remove(self._obstacle_bodies)
+        self._obstacle_bodies = []
+
+    def _remove(self, bodies: list) -> None:
+        for body in bodies:
             pybullet.removeBody(body, physicsClientId=self._client)
-        self._bodies = []
 
 
 def render(client: int, view: CameraView, target) -> np.ndarray:

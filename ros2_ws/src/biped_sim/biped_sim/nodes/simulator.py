@@ -122,7 +122,7 @@ class SimulatorNode(Node):
                 get('terrain.kind'), get('terrain.side_length'), get('terrain.origin_x'),
                 get('terrain.origin_y'), get('terrain.tile_size'), get('terrain.min_height'),
                 get('terrain.max_height'), get('terrain.seed'))
-            self._rebuild_scenery()
+            self._backend.add_terrain(self._terrain)
 
         self._clock_pub = self.create_publisher(Clock, '/clock', 10)
         self._joint_pub = self.create_publisher(JointState, 'joint_states', 10)
@@ -513,7 +513,9 @@ class SimulatorNode(Node):
             self.get_logger().warning(response.message)
             return response
         self._terrain = terrain
-        self._rebuild_scenery()
+        self._backend.clear_terrain()  # the map's obstacles stay as they are
+        if terrain is not None:  # None: flat
+            self._backend.add_terrain(terrain)
         response.success, response.message = True, 'terrain set'
         return response
 
@@ -527,23 +529,18 @@ class SimulatorNode(Node):
             self._reject('map', error)
             return
         if list(boxes) == list(self._map_boxes):
-            # Rebuilt, the scenery's bodies are new ones under feet at rest on them: the contact
-            # solver starts over, and the robot was nudged by a map that changed nothing, as
-            # late as the latched map happened to arrive (on the tiles, a run crossed where
-            # the same run fell, depending on the machine's load)
+            # Rebuilt, the obstacles' bodies would be new ones, perhaps under a foot at rest:
+            # the contact solver starts over, nudging the robot at the moment the latched map
+            # happened to arrive, which depends on the machine's load
             self.get_logger().info(f'{len(boxes)} obstacle boxes from the map (unchanged)')
             return
         self._map_boxes = boxes
-        self._rebuild_scenery()
+        # Only the obstacles: rebuilt, the tiles under the standing feet would be new bodies
+        # (on the tiles, a run crossed where the same run fell, depending on the load)
+        self._backend.clear_obstacles()
+        if boxes:
+            self._backend.add_obstacles(boxes)
         self.get_logger().info(f'{len(self._map_boxes)} obstacle boxes from the map')
-
-    def _rebuild_scenery(self) -> None:
-        """Obstacles from the map and the terrain, both kept when either changes."""
-        self._backend.clear_scenery()
-        if self._map_boxes:
-            self._backend.add_obstacles(self._map_boxes)
-        if self._terrain is not None:
-            self._backend.add_terrain(self._terrain)
 
     def destroy_node(self) -> None:
         self._backend.close()
