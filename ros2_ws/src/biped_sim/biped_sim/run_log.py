@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from biped_mpc.balance.dcm_feedback import project_into_polygon, rectangle_vertices
 from biped_planner.rotations import tilt_of_quaternion
 
 
@@ -100,41 +101,16 @@ class RunLog:
         :return: (K,) bool
         """
         inside = np.zeros(self.t.size, dtype=bool)
-        half = 0.5 * np.array([self.sole_length, self.sole_width]) + margin
-        corners = np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]]) * half
+        length, width = self.sole_length + 2.0 * margin, self.sole_width + 2.0 * margin
         for k in range(self.t.size):
             zmp = self.zmp_measured[k]
             if not np.all(np.isfinite(zmp)) or not self.contacts[k].any():
                 continue
-            points = []
-            for side, sole in enumerate((self.left_sole[k], self.right_sole[k])):
-                if self.contacts[k, side]:
-                    c, s = math.cos(self.feet_yaw[k, side]), math.sin(self.feet_yaw[k, side])
-                    rotation = np.array([[c, -s], [s, c]])
-                    points.append(sole[:2] + corners @ rotation.T)
-            inside[k] = _inside_convex_hull(zmp, np.vstack(points))
+            corners = [rectangle_vertices(sole[:2], self.feet_yaw[k, side], length, width)
+                       for side, sole in enumerate((self.left_sole[k], self.right_sole[k]))
+                       if self.contacts[k, side]]
+            inside[k] = project_into_polygon(zmp, np.vstack(corners))[1]
         return inside
-
-
-def _inside_convex_hull(point: np.ndarray, points: np.ndarray) -> bool:
-    """Whether a 2D point is inside (or on) the convex hull of points (monotone chain)."""
-    ordered = sorted(map(tuple, points))
-
-    def half(sequence):
-        chain = []
-        for p in sequence:
-            while len(chain) >= 2 and _cross(chain[-2], chain[-1], p) <= 0.0:
-                chain.pop()
-            chain.append(p)
-        return chain[:-1]
-
-    hull = half(ordered) + half(reversed(ordered))
-    return all(_cross(hull[i], hull[(i + 1) % len(hull)], point) >= -1e-12
-               for i in range(len(hull)))
-
-
-def _cross(o, a, b) -> float:
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
 
 def trimmed(log, count: int):
