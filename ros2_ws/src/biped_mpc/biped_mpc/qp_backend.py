@@ -122,15 +122,25 @@ class QpBackend(abc.ABC):
         :param upper: row upper bounds (m,)
         :return: max(0, lower - A x, A x - upper, bound violations)
         """
-        worst = 0.0
-        if self.n_rows:
-            rows = self.constraints @ x
-            worst = max(np.maximum(lower - rows, rows - upper).max(), 0.0)
+        worst = row_violation(self.constraints, x, lower, upper) if self.n_rows else 0.0
         if self.n_bounded:
             bounded = x[:self.n_bounded]
             worst = max(worst, np.maximum(self.variable_lower - bounded,
                                           bounded - self.variable_upper).max())
         return float(worst)
+
+
+def row_violation(constraints: np.ndarray, x: np.ndarray, lower: np.ndarray,
+                  upper: np.ndarray) -> float:
+    """Largest violation of the row bounds lower <= A x <= upper by x (0 if feasible).
+
+    :param constraints: A (m, n)
+    :param x: a candidate solution (n,)
+    :param lower: row lower bounds (m,), -inf allowed
+    :param upper: row upper bounds (m,), +inf allowed
+    """
+    rows = constraints @ x
+    return float(max(np.maximum(lower - rows, rows - upper).max(initial=0.0), 0.0))
 
 
 @contextlib.contextmanager

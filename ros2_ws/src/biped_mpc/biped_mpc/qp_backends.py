@@ -14,7 +14,7 @@ import numpy as np
 
 from biped_mpc.errors import ConfigError
 from biped_mpc.qp_backend import (c_stdout_silenced, import_solver, QpBackend, QpSolution,
-                                  QpStatus)
+                                  QpStatus, row_violation)
 
 # Infinite bounds go to DAQP as +-1e9, far outside any bound this MPC produces: given +-inf,
 # its warm-started solves returned infeasible points as optimal (33 of 440 cycles of the
@@ -337,9 +337,7 @@ def solve_once(name: str, hessian: np.ndarray, linear: np.ndarray, constraints: 
     iterations = int(info.get('iterations', -1))
     if exitflag in _DAQP_OPTIMAL:
         x = np.asarray(x, dtype=float)
-        rows = constraints @ x
-        if max(np.maximum(lower - rows, rows - upper).max(initial=0.0), 0.0) <= \
-                _FEASIBILITY_TOLERANCE:
+        if row_violation(constraints, x, lower, upper) <= _FEASIBILITY_TOLERANCE:
             return QpSolution(x, QpStatus.OPTIMAL, iterations, elapsed)
         return QpSolution(np.zeros(len(linear)), QpStatus.INACCURATE, iterations, elapsed)
     return QpSolution(np.zeros(len(linear)), _daqp_failure(exitflag), iterations, elapsed)

@@ -345,7 +345,7 @@ class WalkingReference:
             landed.x + params.landing_half_length, landed.y + params.landing_half_width]
         after = plan_phases(all_footsteps, timings, params, first_step=step, t_begin=touchdown,
                             start_zmp=None, stand_until=None, yaws=tuple(yaws))
-        stance = np.asarray(self._lipm.zmp[np.searchsorted(self._lipm.times, phase.t_begin)])
+        stance = self._knot_zmp_at(phase.t_begin)
         rows = PhaseRows(
             phases=[ReferencePhase(phase.kind, phase.t_begin, touchdown, phase.support,
                                    phase.step_index, swing)] + after.phases,
@@ -410,8 +410,7 @@ class WalkingReference:
         after = plan_phases(self._footsteps, timings, self._params, first_step=step,
                             t_begin=touchdown, start_zmp=None, stand_until=None,
                             yaws=(landed[2], landed[5]))
-        stance = np.asarray(self._lipm.zmp[np.searchsorted(self._lipm.times,
-                                                           swing_phase.t_begin)])
+        stance = self._knot_zmp_at(swing_phase.t_begin)
         rows = PhaseRows(
             phases=[swing_phase,
                     ReferencePhase(PHASE_SINGLE_SUPPORT, landing_time, touchdown,
@@ -427,6 +426,10 @@ class WalkingReference:
             knot_zmp=[stance, stance] + after.knot_zmp,
             free_knots=[index + 2 for index in after.free_knots])
         return self._replanned_from(cut, rows, self._footsteps, timings, t_now, hip, dcm)
+
+    def _knot_zmp_at(self, t: float) -> np.ndarray:
+        """The ZMP knot at time t (a phase's start: in single support, the stance centre)."""
+        return np.asarray(self._lipm.zmp[np.searchsorted(self._lipm.times, t)])
 
     def swing_of_late_landing(self, t: float) -> Optional[int]:
         """Index into phases of the swing (single support) whose landing may be late at t.
