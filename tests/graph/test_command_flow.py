@@ -133,7 +133,8 @@ def test_commands_sent_once_right_after_the_first_match_take_effect_every_time(u
     if user_topic == 'cmd_vel':
         ends = [b for a, b in zip(watch.states, watch.states[1:])
                 if a.phase != WalkingState.IDLE and b.phase == WalkingState.IDLE]
-        assert len(ends) == REPEATS and all(s.reason == 'plan finished' for s in ends)
+        reasons = [(s.step_index, s.reason) for s in ends]  # (steps, why) of each walk's end
+        assert len(ends) == REPEATS and all(s.reason == 'plan finished' for s in ends), reasons
         assert sum('cmd_vel timeout' in s.reason for s in watch.states) >= REPEATS
 
 
