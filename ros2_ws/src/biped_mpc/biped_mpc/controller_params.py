@@ -233,6 +233,11 @@ class WalkingControllerParams:
         'adjustment moves them); false: the landing planned at lift-off, and a foot landing '
         'where an adjusted step put it more than touchdown_gate_distance from that point is '
         'never confirmed')
+    touchdown_gate_from_stance: bool = parameter(
+        False, 'the distance gate measures the step: the landing foot from the measured stance '
+        "foot against the plan's landing from the plan's stance foot, so a robot whose feet "
+        'drifted from a blind plan still has its touchdowns confirmed; false: the distance from '
+        "the plan's landing point in the world")
     stabilizer_planned_support: bool = parameter(
         True, 'the stabilizer distributes the wrench, damps the ankles and levels the feet '
         'on the feet the plan has on the ground (Kajita), not only on detected contacts: a '

@@ -104,6 +104,39 @@ def test_a_gate_held_at_the_lift_off_landing_refuses_the_moved_step(coman_like_m
     assert '0.100 m from the landing planned at its lift-off' in events[0]
 
 
+def walk_behind_the_plan(loop, x_left, stance_behind):
+    """walk_to_landing with the stance (right) foot measured stance_behind (m) behind its
+    planned place: a robot that slid back on its blind plan."""
+    air, load = sensor_wrench(0.0), sensor_wrench(300.0)
+    events = []
+    for k in range(40):
+        t = k * DT
+        loop.sense(t, DT, np.array([air if t < 0.3 - 1e-9 else load, load]),
+                   flat_soles(x_left=x_left, x_right=-stance_behind),
+                   Window(landing=max(20 - k, 0)))
+        events += loop.take_events()
+    return events
+
+
+def test_the_gate_measures_the_step_from_the_stance_foot(coman_like_model):
+    # the stance foot slid 8 cm back; the left foot makes the planned 0.1 m step from it,
+    # landing 8 cm short of the plan's point in the world (touchdown_gate_distance 0.05 m)
+    loop = loop_with(coman_like_model, touchdown_gate_from_stance=True)
+    assert walk_behind_the_plan(loop, x_left=0.02, stance_behind=0.08) == []
+    assert loop.contacts == (True, True)
+    # the same foot on the plan's point made an 8 cm longer step than planned: refused
+    loop = loop_with(coman_like_model, touchdown_gate_from_stance=True)
+    events = walk_behind_the_plan(loop, x_left=0.1, stance_behind=0.08)
+    assert loop.contacts == (False, True)
+    assert '0.080 m from its planned landing (from the stance foot)' in events[0]
+
+
+def test_the_default_gate_in_the_world_refuses_a_step_made_from_a_slid_stance_foot(loop):
+    events = walk_behind_the_plan(loop, x_left=0.02, stance_behind=0.08)
+    assert loop.contacts == (False, True)
+    assert '0.080 m from its planned landing (touchdown_gate_distance' in events[0]
+
+
 def test_a_moved_landing_time_moves_the_gate_phase(coman_like_model):
     # planned at 0.4 s, the step is moved to land at 0.6 s: loaded at 0.3 s on the planned
     # point, the foot is inside the gate distance but at phase 0.3 / 0.6 = 0.5 only from 0.3 s

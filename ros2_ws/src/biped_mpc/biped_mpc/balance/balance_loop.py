@@ -43,7 +43,7 @@ from biped_mpc.stance_feet import on_support
 from biped_planner.footsteps import SIDE_NAMES
 from biped_planner.landing_hold import LANDING_NONE
 from biped_planner.rotations import yaw_of_matrix
-from biped_planner.sides import SIDES
+from biped_planner.sides import RIGHT, SIDES
 
 PLANNED_SUPPORT = 'support'
 
@@ -67,6 +67,9 @@ class BalanceLoopParams:
     :param contact_aware_landing: stop early feet, lower late ones
     :param gate_follows_plan: a swing's landing point and time (the touchdown gate's, the
         landing logic's) follow the plan each cycle; false: fixed at lift-off
+    :param gate_from_stance: the distance gate compares the step (landing foot - measured
+        stance foot) with the plan's (landing point - planned stance foot); false: the foot
+        with the landing point in the world
     :param com_admittance: pelvis target speed per metre of measured - desired ZMP (1/s)
     :param com_admittance_time_constant: leak of that offset (s)
     :param com_admittance_limit: largest offset per axis (m)
@@ -85,6 +88,7 @@ class BalanceLoopParams:
     ft_sensor_height: float = 0.04
     contact_aware_landing: bool = True
     gate_follows_plan: bool = True
+    gate_from_stance: bool = False
     com_admittance: float = 0.0
     com_admittance_time_constant: float = 1.0
     com_admittance_limit: float = 0.03
@@ -139,6 +143,7 @@ class BalanceLoopParams:
                                        max_lead=p.landing_max_lead),
             ft_sensor_height=p.ft_sensor_height, contact_aware_landing=p.contact_aware_landing,
             gate_follows_plan=p.touchdown_gate_follows_plan,
+            gate_from_stance=p.touchdown_gate_from_stance,
             com_admittance=p.com_admittance,
             com_admittance_time_constant=p.com_admittance_time_constant,
             com_admittance_limit=p.com_admittance_limit,
@@ -315,7 +320,7 @@ class BalanceLoop:
             phase = distance = None
             if swing is not None:
                 phase = swing.phase(t)
-                distance = float(np.linalg.norm(soles[side][0][:2] - swing.landing_point[:2]))
+                distance = self._gate_distance(side, swing, soles, window)
                 if self._landings[side].mode == SEEKING:
                     # past its planned landing the foot is wherever it met the ground: a foot
                     # stopped 9 cm short by a higher tile's edge was refused for ever, and a
@@ -345,6 +350,24 @@ class BalanceLoop:
                               min_force=self.params.ft.cop_min_force)[:2]
         return SensedFeet(tuple(wrenches), contacts, zmp)
 
+    def _gate_distance(self, side: int, swing: '_Swing', soles: tuple, window) -> float:
+        """How far the foot is from its planned landing, for the touchdown gate (m).
+
+        From the stance foot: the blind plan knows the ground no better than the feet do, so a
+        robot that slid or was kicked a few centimetres off its plan lands every later step that
+        far from the plan's points, and the world distance refused each of them for ever (the
+        tile trials' falls, docs/controller_notes.md, "The touchdown gate measures the step").
+        """
+        position = soles[side][0][:2]
+        if not self.params.gate_from_stance or window is None:
+            return float(np.linalg.norm(position - swing.landing_point[:2]))
+        other = 1 - side
+        planned_stance = np.asarray(window.right_foot if other == RIGHT else window.left_foot,
+                                    dtype=float)[0, :2]
+        step = position - soles[other][0][:2]
+        planned_step = swing.landing_point[:2] - planned_stance
+        return float(np.linalg.norm(step - planned_step))
+
     def take_events(self) -> list:
         """The warnings since the last call (a loaded foot whose touchdown stays unconfirmed)."""
         events = list(self._events)
@@ -363,6 +386,8 @@ class BalanceLoop:
         swing.reported = True
         where = ('its planned landing' if self.params.gate_follows_plan
                  else 'the landing planned at its lift-off')
+        if self.params.gate_from_stance:
+            where += ' (from the stance foot)'
         self._events.append(
             f'{SIDE_NAMES[side]} foot: {state.normal_force:.0f} N on it '
             f'{t - swing.landing_time:.2f} s after its planned landing, but {distance:.3f} m from '
