@@ -355,8 +355,8 @@ class BalanceLoop:
 
         From the stance foot: the blind plan knows the ground no better than the feet do, so a
         robot that slid or was kicked a few centimetres off its plan lands every later step that
-        far from the plan's points, and the world distance refused each of them for ever (the
-        tile trials' falls, docs/controller_notes.md, "The touchdown gate measures the step").
+        far from the plan's points, and the world distance refused each of them for ever
+        (docs/controller_notes.md, "What starts the falls on the tiles now").
         """
         position = soles[side][0][:2]
         if not self.params.gate_from_stance or window is None:
