@@ -75,6 +75,9 @@ def check_plan_start(footsteps: Sequence[Footstep], feet: Sequence[Footstep],
 
 WALK_NOTICE = 1.0  # s: a scheduled walk enters the references this long before its start
 MAX_ESTIMATE_OFFSET = 0.5  # m: a COM estimate farther from the plan's is not the walking robot's
+# AppliedAdjustment.kind: the step adjuster moved the step, or a late landing's hold retimed it
+KIND_MOVED = 'moved'
+KIND_HELD = 'held'
 
 
 @dataclass(frozen=True)
@@ -99,11 +102,7 @@ class AppliedAdjustment:
     planned_touchdown: float
     footsteps: Tuple[Footstep, ...]
     dcm_error: Tuple[float, float] = (0.0, 0.0)
-    kind: str = 'moved'
-
-
-KIND_MOVED = 'moved'
-KIND_HELD = 'held'
+    kind: str = KIND_MOVED
 
 
 @dataclass(frozen=True)
