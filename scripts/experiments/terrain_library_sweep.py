@@ -51,6 +51,10 @@ def main() -> None:
     parser.add_argument('--landing-hold', type=float, default=None, metavar='SECONDS',
                         help='let the plan wait this long at most for a late landing '
                         '(biped_planner.landing_hold); default: the plan\'s timing')
+    parser.add_argument('--end-early', action='store_true',
+                        help='end the single support when a swing foot lands before its time '
+                        '(biped_planner.landing_hold end_early; needs the controller\'s '
+                        'contact_aware_landing, --set contact_aware_landing=true)')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
     parser.add_argument('--sim', nargs='*', default=[], metavar='FIELD=VALUE',
@@ -58,8 +62,10 @@ def main() -> None:
                         'sole_contact_stiffness=1e5)')
     args = parser.parse_args()
     overrides = dict(parse_override(text) for text in args.set)
-    hold = None if args.landing_hold is None else LandingHoldParams(
-        enabled=True, hold_time=args.landing_hold)
+    hold = None
+    if args.landing_hold is not None or args.end_early:
+        hold = LandingHoldParams(enabled=args.landing_hold is not None,
+                                 hold_time=args.landing_hold or 0.0, end_early=args.end_early)
     sim_overrides = dict(parse_override(text) for text in args.sim)
     robot = coman_like()
     trials = [] if args.no_flat else [('flat', None, args.steps)]

@@ -339,6 +339,12 @@ def held_at(touchdown):
     return change
 
 
+def early_at(touchdown):
+    def change(m):
+        m.kind, m.touchdown_time = StepAdjustment.KIND_EARLY, touchdown
+    return change
+
+
 def moved_walked_footstep(m):
     m.footsteps[0].x += 0.05
 
@@ -359,6 +365,8 @@ STEP_ADJUSTMENT = [  # (variant, kind, change, readers)
     ('kind 7', 'enum', lambda m: setattr(m, 'kind', 7), (PLANNER, SM)),
     ('kind HELD, touchdown_time NaN', 'nan', held_at(NAN), (SM,)),
     ('kind HELD, touchdown_time 1e30', 'huge', held_at(HUGE), (SM,)),
+    ('kind EARLY, touchdown_time NaN', 'nan', early_at(NAN), (SM,)),
+    ('kind EARLY, touchdown_time -1e30', 'huge', early_at(-HUGE), (SM,)),
 ]
 
 

@@ -21,6 +21,7 @@ from biped_planner.node_support.reference_messages import window_from_reference_
 from biped_planner.nodes.footstep_planner import FootstepPlannerNode
 from biped_planner.nodes.reference_generator import ReferenceGeneratorNode
 from biped_planner.nodes.state_machine import StateMachineNode
+from biped_planner.walking_state_machine import EARLY_REASON
 from ros_harness import Collector, SimClock, spin_until, wait_for_subscribers
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -408,3 +409,88 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
     double_start = ends[0].header.stamp.sec + ends[0].header.stamp.nanosec * 1e-9 - \
         ends[0].time_in_phase
     assert double_start == pytest.approx(adjusted.touchdown_time, abs=0.011)
+
+
+@pytest.fixture
+def early_landing_graph(ros_context, executor):
+    """The graph with the reference generator's early landing on."""
+    return make_graph(ros_context, executor, [Parameter('landing_hold.end_early', value=True)])
+
+
+def test_an_early_landing_ends_the_single_support_in_the_references_and_the_state_machine(
+        early_landing_graph):
+    """The controller reports the left swing foot landed late in its swing, before its planned
+    time: the
+    reference generator ends the single support then (step_adjustment kind EARLY, the plan's
+    footsteps), its references are in double support from that time, the state machine starts
+    the double support then, and the planner keeps its plan."""
+    g = early_landing_graph
+    adjustments = Collector(g['client'], StepAdjustment, 'step_adjustment', 10)
+    estimates = g['client'].create_publisher(BalanceEstimate, 'balance_estimate', 10)
+    assert wait_for_subscribers(g['executor'], estimates, count=1, timeout=15)
+    g['cmd_vel'].publish(Twist())  # walk in place
+    first = latest_plan(g)
+
+    def early_right_single_support(reference):
+        ahead = list(reference.support[:10])
+        return len(ahead) == 10 and all(s == ReferenceTrajectory.SUPPORT_RIGHT for s in ahead)
+    reference = None
+    for _ in range(200):
+        g['clock'].advance(0.02, pace=2.0)
+        g['cmd_vel'].publish(Twist())
+        refs = g['refs'].messages
+        if refs and early_right_single_support(refs[-1]):
+            reference = refs[-1]
+            break
+    assert reference is not None, 'no single support on the right foot'
+    step = reference.step_index[0] - 1
+    support = list(reference.support)
+    planned_touchdown = seconds_of_stamp(reference.header.stamp) + reference.dt * next(
+        i for i, s in enumerate(support) if s != ReferenceTrajectory.SUPPORT_RIGHT)
+    for _ in range(10):  # past half the swing (landing_hold.early_min_share)
+        g['clock'].advance(0.02, pace=2.0)
+    reference = g['refs'].messages[-1]
+    assert reference.support[0] == ReferenceTrajectory.SUPPORT_RIGHT
+    plans = len(g['plans'].messages)
+    estimate = BalanceEstimate(omega=math.sqrt(9.81 / 0.5), landing_modes=['landed', 'none'],
+                               landing_depths=[0.0, 0.0])
+    estimate.header.frame_id = 'map'
+    estimate.header.stamp = reference.header.stamp
+    estimate.com.x, estimate.com.y = reference.hip_x[0], reference.hip_y[0]
+    estimate.dcm.x, estimate.dcm.y = reference.hip_x[0], reference.hip_y[0]
+    estimates.publish(estimate)
+    for _ in range(3):  # the reference of the next period answers it
+        g['clock'].advance(0.02)
+        if adjustments.wait_for(g['executor'], lambda m: len(m) >= 1, 1.0):
+            break
+    assert adjustments.messages, 'no early end'
+    early = adjustments.messages[0]
+    t_report = seconds_of_stamp(reference.header.stamp)
+    assert early.kind == StepAdjustment.KIND_EARLY
+    assert (early.plan_id, early.step_index) == (first.plan_id, step)
+    assert early.touchdown_time == pytest.approx(t_report + 0.001)
+    assert early.planned_touchdown_time == pytest.approx(planned_touchdown, abs=0.011)
+    assert planned_touchdown - early.touchdown_time > 0.05
+    walked = [p for p in g['plans'].messages if p.plan_id == first.plan_id][-1]
+    assert [(f.x, f.y) for f in early.footsteps] == [(f.x, f.y) for f in walked.footsteps][
+        :len(early.footsteps)]
+    # the references are in double support from the touchdown on
+    g['clock'].advance(0.06, pace=2.0)
+    newest = g['refs'].messages[-1]
+    assert newest.plan_revision >= 1
+    assert newest.support[0] == ReferenceTrajectory.SUPPORT_DOUBLE
+    # the state machine's double support starts at the early touchdown
+    g['clock'].advance(0.2, pace=2.0)
+    ends = [s for s in g['states'].messages if s.phase == WalkingState.DOUBLE_SUPPORT and
+            s.step_index == step]
+    assert ends, 'the early step never landed'
+    assert any(s.phase == WalkingState.SINGLE_SUPPORT and s.step_index == step and
+               s.reason == EARLY_REASON for s in g['states'].messages)
+    double_start = seconds_of_stamp(ends[0].header.stamp) - ends[0].time_in_phase
+    assert double_start == pytest.approx(early.touchdown_time, abs=0.011)
+    # the planner keeps its plan: nothing republished for the early landing
+    assert all(p.header.stamp != early.header.stamp for p in g['plans'].messages[plans:])
+
+
+def seconds_of_stamp(stamp) -> float:
+    return stamp.sec + stamp.nanosec * 1e-9

@@ -19,7 +19,7 @@ from typing import List, Optional, Sequence, Tuple
 
 from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import Footstep
-from biped_planner.landing_hold import LandingHold
+from biped_planner.landing_hold import EARLY, LandingHold
 from biped_planner.plan_adjustment import swing_step_at
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_window import joined_at, ReferenceWindow
@@ -75,9 +75,11 @@ def check_plan_start(footsteps: Sequence[Footstep], feet: Sequence[Footstep],
 
 WALK_NOTICE = 1.0  # s: a scheduled walk enters the references this long before its start
 MAX_ESTIMATE_OFFSET = 0.5  # m: a COM estimate farther from the plan's is not the walking robot's
-# AppliedAdjustment.kind: the step adjuster moved the step, or a late landing's hold retimed it
+# AppliedAdjustment.kind: the step adjuster moved the step, a late landing's hold retimed it,
+# or an early landing ended its single support
 KIND_MOVED = 'moved'
 KIND_HELD = 'held'
+KIND_EARLY = 'early'
 
 
 @dataclass(frozen=True)
@@ -91,8 +93,8 @@ class AppliedAdjustment:
     :param planned_touchdown: its touchdown before the adjustment (s)
     :param footsteps: the whole adjusted footstep list
     :param dcm_error: (x, y) estimated DCM minus the plan's at the time (m), what moved it
-    :param kind: KIND_MOVED (the step adjuster) or KIND_HELD (a late landing's hold: the
-        touchdown moved, the footsteps did not)
+    :param kind: KIND_MOVED (the step adjuster), KIND_HELD (a late landing's hold: the
+        touchdown moved, the footsteps did not) or KIND_EARLY (an early landing: the same)
     """
 
     plan_id: int
@@ -201,7 +203,7 @@ class ReferenceSession:
 
     @property
     def walk_holds(self) -> int:
-        """Holds and resumes of late landings in the walk under way."""
+        """Holds and resumes of late landings and early ends in the walk under way."""
         return self._walk_holds
 
     def hold_landing(self, t: float, modes: Sequence[str], depths: Sequence[float],
@@ -214,7 +216,8 @@ class ReferenceSession:
         :param depths: (left, right) search depths below the planned landings (m)
         :param com: (2,) estimated COM to replan the hip from, None for the plan's
         :param dcm: (2,) estimated DCM, with com
-        :return: the hold or resume, for the graph to follow (kind KIND_HELD), else None
+        :return: the hold or resume (kind KIND_HELD) or early end (KIND_EARLY), for the graph
+            to follow, else None
         :raises InputError: for modes or depths that are not two valid values (LandingHold)
         """
         walking = self._walk_start is not None and t >= self._walk_start
@@ -226,7 +229,8 @@ class ReferenceSession:
         self._walk_holds += 1
         return AppliedAdjustment(self.plan_id, self._walk_adjustments + self._walk_holds,
                                  change.step, change.touchdown, change.planned_touchdown,
-                                 tuple(change.reference.footsteps), kind=KIND_HELD)
+                                 tuple(change.reference.footsteps),
+                                 kind=KIND_EARLY if change.kind == EARLY else KIND_HELD)
 
     def adjust_step(self, t_now: float, landings: Sequence[Footstep], touchdown: float,
                     hip: Optional[Sequence[float]] = None,

@@ -5,13 +5,15 @@ from biped_planner.errors import ConfigError
 from biped_planner.input_checks import check_number
 from biped_planner.parameter_fields import parameter, validate_fields
 
+MIN_SINGLE_SUPPORT = 0.05  # s: the shortest T_ss a step may have
 
 @dataclass(frozen=True)
 class StepTiming:
     """Durations of the two phases of one step (the paper's T_ss and T_ds)."""
 
     single_support: float = parameter(
-        0.4, 'T_ss: one foot on the ground while the other swings (s)', low=0.05, high=5.0)
+        0.4, 'T_ss: one foot on the ground while the other swings (s)',
+        low=MIN_SINGLE_SUPPORT, high=5.0)
     double_support: float = parameter(
         0.1, 'T_ds: both feet on the ground while the ZMP moves to the next support foot (s)',
         low=0.01, high=5.0)

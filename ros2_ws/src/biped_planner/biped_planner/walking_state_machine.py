@@ -27,6 +27,9 @@ class Phase(enum.IntEnum):
 
 
 WALKING_PHASES = (Phase.INITIALIZE, Phase.SINGLE_SUPPORT, Phase.DOUBLE_SUPPORT)
+# WalkingStatus.reason of a single support retimed mid-step
+MOVED_REASON = 'touchdown moved by the step adjuster'
+EARLY_REASON = 'the swing foot met the ground early'
 
 
 class Support(enum.IntEnum):
@@ -172,13 +175,16 @@ class WalkingStateMachine:
         if first_support is not None:
             self._first_support = Support(first_support)
 
-    def retime_single_support(self, step_index: int, end: float) -> bool:
-        """The step adjuster moved the touchdown of the step under way: its single support ends
-        at `end` (the phases after it keep their durations, as in the adjusted reference).
+    def retime_single_support(self, step_index: int, end: float,
+                              reason: str = MOVED_REASON) -> bool:
+        """The touchdown of the step under way moved (the step adjuster, or an early landing):
+        its single support ends at `end` (the phases after it keep their durations, as in the
+        adjusted reference).
 
         :param step_index: the adjusted step
         :param end: the new end of its single support (clock time, s); already past: the next
             update() ends it
+        :param reason: the status's reason (MOVED_REASON, EARLY_REASON)
         :return: whether it applied (False: the machine is not in that step's single support)
         :raises CommandError: if end is not finite
         """
@@ -188,7 +194,7 @@ class WalkingStateMachine:
                 end <= status.phase_start:
             return False
         self._status = replace(status, phase_duration=float(end) - status.phase_start,
-                               reason='touchdown moved by the step adjuster')
+                               reason=reason)
         return True
 
     def hold_single_support(self, step_index: int, end: float) -> bool:

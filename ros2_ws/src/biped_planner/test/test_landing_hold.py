@@ -1,5 +1,5 @@
 """A late landing's hold: the single support of a swing that has not met the ground goes on
-(WalkingReference.hold_landing, biped_planner.landing_hold)."""
+(WalkingReference.hold_landing, biped_planner.landing_hold); an early one ends it."""
 import math
 
 import numpy as np
@@ -7,7 +7,7 @@ import pytest
 
 from biped_planner.errors import ConfigError, InputError
 from biped_planner.footsteps import straight_footsteps
-from biped_planner.landing_hold import (HOLD, LANDING_FAILED, LANDING_LANDED, LANDING_NONE,
+from biped_planner.landing_hold import (EARLY, HOLD, LANDING_FAILED, LANDING_LANDED, LANDING_NONE,
                                         LANDING_SEEKING, LANDING_SWINGING, LandingHold,
                                         LandingHoldParams, RESUME, RESUME_LEAD)
 from biped_planner.plan_adjustment import swing_step_at
@@ -228,3 +228,60 @@ def test_off_by_default_and_unknown_states_rejected():
             LandingHold(HOLD_PARAMS).update(1.92, REFERENCE, *right(LANDING_SEEKING, depth))
     with pytest.raises(ConfigError):
         LandingHoldParams(hold_time=-0.1)
+
+
+# --- an early landing ends the single support --------------------------------------------
+EARLY_PARAMS = LandingHoldParams(end_early=True, early_lead=0.02)
+
+
+def test_a_foot_landed_before_its_time_ends_the_single_support_then():
+    change = LandingHold(EARLY_PARAMS).update(1.8, REFERENCE, *right(LANDING_LANDED))
+    touchdown = 1.8 + RESUME_LEAD
+    assert (change.kind, change.step) == (EARLY, 1)
+    assert change.touchdown == pytest.approx(touchdown) and change.planned_touchdown == 1.9
+    early = change.reference
+    assert early.revision == 1 and early.footsteps == REFERENCE.footsteps
+    swing = early.single_support_at(1.8)
+    single, double = early.phases[swing:swing + 2]
+    assert (single.t_begin, single.t_end) == (1.5, pytest.approx(touchdown))
+    assert double.kind == PHASE_DOUBLE_SUPPORT and double.t_begin == pytest.approx(touchdown)
+    assert double.t_end == pytest.approx(touchdown + TIMING.double_support)
+    # every later phase keeps its duration: the walk ends earlier by what the step saved
+    assert early.t_end == pytest.approx(REFERENCE.t_end - (1.9 - touchdown))
+    assert early.sample(1.805, 1, 0.01).support[0] == SUPPORT_DOUBLE
+    # the hip goes on from the plan's state at the report, as a pendulum, and still ends at
+    # rest between the last two feet
+    for old, new in zip(REFERENCE.lipm.state_at(1.8), early.lipm.state_at(1.8)):
+        np.testing.assert_allclose(new, old, atol=1e-9)
+    feet = REFERENCE.footsteps[-2:]
+    np.testing.assert_allclose(early.sample(early.t_end + 0.5, 1, 0.01).hip[0],
+                               [0.5 * (feet[0].x + feet[1].x), 0.5 * (feet[0].y + feet[1].y)],
+                               atol=1e-9)
+
+
+@pytest.mark.parametrize('t, landing, params', [
+    (1.8, LANDING_LANDED, LandingHoldParams()),                    # off by default
+    (1.8, LANDING_LANDED, HOLD_PARAMS),                            # the hold alone
+    (1.885, LANDING_LANDED, EARLY_PARAMS),                         # within early_lead: on time
+    (1.8, LANDING_SWINGING, EARLY_PARAMS),
+    (1.8, LANDING_NONE, EARLY_PARAMS),
+    (1.95, LANDING_LANDED, EARLY_PARAMS),                          # the double support after it
+    (0.5, LANDING_LANDED, EARLY_PARAMS),                           # no swing
+    (1.69, LANDING_LANDED, EARLY_PARAMS),                          # before half its swing
+    (1.53, LANDING_LANDED, LandingHoldParams(end_early=True, early_min_share=0.0)),  # < 50 ms
+    (1.92, LANDING_SEEKING, EARLY_PARAMS),                         # late, the hold is off
+])
+def test_only_a_landing_early_by_more_than_the_lead_ends_the_single_support(t, landing, params):
+    assert LandingHold(params).update(t, REFERENCE, *right(landing, DEEP)) is None
+
+
+def test_an_early_end_happens_once_and_the_hold_still_answers_late_feet():
+    hold = LandingHold(LandingHoldParams(enabled=True, hold_time=0.2, end_early=True))
+    early = hold.update(1.8, REFERENCE, *right(LANDING_LANDED)).reference
+    # the next reports of the landed foot are in the double support: nothing to change
+    assert hold.update(1.803, early, *right(LANDING_LANDED)) is None
+    # the next swing (left foot, step 2) is late: held as without end_early
+    step_2 = next(p for p in early.phases if p.kind == PHASE_SINGLE_SUPPORT and
+                  p.step_index == 3)
+    late = hold.update(step_2.t_end + 0.01, early, (LANDING_SEEKING, LANDING_NONE), (DEEP, 0.0))
+    assert late.kind == HOLD and late.planned_touchdown == pytest.approx(step_2.t_end)

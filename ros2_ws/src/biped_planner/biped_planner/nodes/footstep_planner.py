@@ -261,8 +261,8 @@ class FootstepPlannerNode(Node):
                 self._reject('walking_state', error)
 
     def _on_adjustment(self, msg: StepAdjustment) -> None:
-        if msg.kind == StepAdjustment.KIND_HELD:
-            return  # a late landing's hold moves a touchdown, no footstep: the plan stands
+        if msg.kind in (StepAdjustment.KIND_HELD, StepAdjustment.KIND_EARLY):
+            return  # a late or early landing moves a touchdown, no footstep: the plan stands
         try:
             if msg.kind != StepAdjustment.KIND_MOVED:
                 raise ValueError(f'unknown kind {msg.kind}')

@@ -6,7 +6,7 @@ Subscribes: footstep_plan (biped_msgs/FootstepPlan, transient local), walking_st
 controller sends the measured soles before its first cycle; odom until they arrive only with
 standing_from_odom), joint_commands (sensor_msgs/JointState from the controller, on sim time:
 see below), balance_estimate (biped_msgs/BalanceEstimate from the controller, with
-step_adjustment.enabled or landing_hold.enabled).
+step_adjustment.enabled, landing_hold.enabled or landing_hold.end_early).
 Publishes: reference_trajectory (biped_msgs/ReferenceTrajectory) at the control rate, `horizon`
 samples of `dt` from now: ZMP, hip, feet, masses, support polygon and landing bounds;
 step_adjustment (biped_msgs/StepAdjustment) when the online step adjuster moved the step under
@@ -22,7 +22,8 @@ plans on from it) and the state machine (which moves the touchdown).
 Landing hold (biped_planner.landing_hold, off by default): a swing foot that the controller
 reports still seeking the ground past its planned landing holds the single support until it
 touches down (WalkingReference.hold_landing); step_adjustment, kind HELD, tells the state
-machine the new touchdown; the planner's footsteps do not change.
+machine the new touchdown; the planner's footsteps do not change. With landing_hold.end_early
+a foot reported landed before its planned time ends the single support then (kind EARLY).
 
 On sim time the controller waits for the reference of each period (lockstep). Once it has
 answered period t (its joint command stamped t), the simulator steps to t + 1 / rate, so the
@@ -85,7 +86,8 @@ from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_pose
                                              footstep_msgs, footsteps_from_msgs)
 from biped_planner.pose_checks import PoseBounds
 from biped_planner.reference_params import ReferenceParams
-from biped_planner.reference_session import (check_footsteps, check_plan_start, KIND_HELD,
+from biped_planner.reference_session import (check_footsteps, check_plan_start, KIND_EARLY,
+                                              KIND_HELD,
                                               ReferenceSession)
 from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
@@ -189,7 +191,7 @@ class ReferenceGeneratorNode(Node):
         # t had sent it, depending on the load).
         self._balance_reader = LatestMessageReader(
             self, BalanceEstimate, 'balance_estimate', QoSProfile(depth=10)) \
-            if self._adjuster_params.enabled or self._hold_params.enabled else None
+            if self._adjuster_params.enabled or self._hold_params.answers_landings else None
         self._alive = LivelinessToken(self, 'reference_trajectory')  # the controller waits for it
         self._planner_process = LivelinessWatch(self, 'footstep_plan')
         self._continuous = False  # the newest plan used is a teleop plan the planner extends
@@ -286,7 +288,7 @@ class ReferenceGeneratorNode(Node):
             # inwards, which moved every first step inwards to the crossing limit.
             adjustment = self._session.adjust(t, com, dcm)
             held = None
-            if self._hold_params.enabled:
+            if self._hold_params.answers_landings:
                 held = self._session.hold_landing(t, msg.landing_modes, msg.landing_depths)
         except (BipedPlannerError, ValueError) as error:
             self._reject('balance_estimate', error)
@@ -297,8 +299,8 @@ class ReferenceGeneratorNode(Node):
 
     def _publish_adjustment(self, adjustment, stamp) -> None:
         """:param stamp: the time of the estimate it answers"""
-        kind = StepAdjustment.KIND_HELD if adjustment.kind == KIND_HELD \
-            else StepAdjustment.KIND_MOVED
+        kind = {KIND_HELD: StepAdjustment.KIND_HELD, KIND_EARLY: StepAdjustment.KIND_EARLY}.get(
+            adjustment.kind, StepAdjustment.KIND_MOVED)
         msg = StepAdjustment(kind=kind, plan_id=adjustment.plan_id, revision=adjustment.revision,
                              step_index=adjustment.step_index,
                              touchdown_time=adjustment.touchdown,
@@ -307,6 +309,12 @@ class ReferenceGeneratorNode(Node):
         msg.header.stamp = stamp
         msg.header.frame_id = self._frame
         self._adjustment_pub.publish(msg)
+        if adjustment.kind == KIND_EARLY:  # the footsteps stay, as for a hold
+            self.get_logger().info(
+                f'step {adjustment.step_index} landed early (plan {adjustment.plan_id}, revision '
+                f'{adjustment.revision}): single support ends at t={adjustment.touchdown:.3f} s '
+                f'(planned {adjustment.planned_touchdown:.3f} s)')
+            return
         if adjustment.kind == KIND_HELD:  # the footsteps stay: the planner has nothing to send
             self.get_logger().info(
                 f'step {adjustment.step_index} held for a late landing (plan '

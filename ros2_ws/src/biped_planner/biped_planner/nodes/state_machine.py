@@ -54,8 +54,9 @@ from biped_planner.plan_requests import (PlanRequests, PlanUse, RequestKind,
 from biped_planner.pose_checks import PoseBounds, PoseStream
 from biped_planner.teleop_gate import TeleopAction, TeleopGate
 from biped_planner.walk_command import CommandKind, CommandLimits, start_time_of
-from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
-                                                 WALKING_PHASES, WalkingStateMachine)
+from biped_planner.walking_state_machine import (EARLY_REASON, MOVED_REASON, Phase,
+                                                 StateMachineParams, Support, WALKING_PHASES,
+                                                 WalkingStateMachine)
 
 PLAN = 'footstep_plan'
 MAX_ADJUSTMENT_LEAD = 5.0  # s: an adjusted touchdown farther from the clock is not a step's
@@ -411,19 +412,25 @@ class StateMachineNode(Node):
             self._reject('step_adjustment', f'touchdown_time {msg.touchdown_time!r} s is not '
                          f'within {MAX_ADJUSTMENT_LEAD} s of the clock ({now:.3f} s)')
             return
-        if msg.kind not in (StepAdjustment.KIND_MOVED, StepAdjustment.KIND_HELD):
+        if msg.kind not in (StepAdjustment.KIND_MOVED, StepAdjustment.KIND_HELD,
+                            StepAdjustment.KIND_EARLY):
             self._reject('step_adjustment', f'unknown kind {msg.kind}')
             return
         held = msg.kind == StepAdjustment.KIND_HELD
         try:
-            retime = self._machine.hold_single_support if held else \
-                self._machine.retime_single_support
-            moved = retime(msg.step_index, msg.touchdown_time)
+            if held:
+                moved = self._machine.hold_single_support(msg.step_index, msg.touchdown_time)
+            else:
+                moved = self._machine.retime_single_support(
+                    msg.step_index, msg.touchdown_time,
+                    EARLY_REASON if msg.kind == StepAdjustment.KIND_EARLY else MOVED_REASON)
         except CommandError as error:
             self._reject('step_adjustment', error)
             return
         if moved:
-            what = 'held for a late landing until' if held else 'moved to'
+            what = {StepAdjustment.KIND_HELD: 'held for a late landing until',
+                    StepAdjustment.KIND_EARLY: 'brought forward by an early landing to'}.get(
+                        msg.kind, 'moved to')
             self.get_logger().info(f'step {msg.step_index}: touchdown {what} '
                                    f't={msg.touchdown_time:.3f} s (revision {msg.revision})')
             self._publish(self._machine.status, now)
