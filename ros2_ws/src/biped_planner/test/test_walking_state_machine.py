@@ -3,7 +3,8 @@ import math
 import pytest
 
 from biped_planner.errors import CommandError, ConfigError
-from biped_planner.walking_state_machine import (Phase, StateMachineParams, Support,
+from biped_planner.walking_state_machine import (EARLY_REASON, MOVED_REASON, Phase,
+                                                 StateMachineParams, Support,
                                                  WalkingStateMachine)
 
 PARAMS = StateMachineParams(initialize_duration=1.0, single_support=0.4, double_support=0.1,
@@ -170,6 +171,9 @@ def test_an_adjusted_touchdown_moves_the_end_of_that_single_support_only():
     assert not machine.retime_single_support(0, 1.7)  # not the step under way
     assert machine.status.phase_duration == pytest.approx(0.4)
     assert machine.retime_single_support(1, 1.75)
+    assert machine.status.reason == MOVED_REASON
+    assert machine.retime_single_support(1, 1.75, EARLY_REASON)  # an early landing: the same
+    assert machine.status.reason == EARLY_REASON
     transitions = run(machine, 2.5, t0=1.55)
     assert [s.phase_start for s in transitions[:3]] == pytest.approx([1.75, 1.85, 2.25],
                                                                      abs=1e-9)
