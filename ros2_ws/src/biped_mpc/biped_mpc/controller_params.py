@@ -105,6 +105,11 @@ class WalkingControllerParams:
         0.1, 'with the planned swing target: a swing starts where the foot was latched and '
         'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
         'planned swing from its planned start', low=0.0, high=10.0)
+    pelvis_ground_at_zmp: bool = parameter(
+        False, 'the pelvis stands pelvis_height above the ground under the commanded ZMP (the '
+        'held feet\'s heights weighed by where the ZMP is between them), so a touchdown or '
+        'lift-off on tiles of different heights does not step the legs\' length; false: above '
+        'the held feet\'s mean height')
     height_continuity_time_constant: float = parameter(
         0.0, 'lag of the held soles\' and the pelvis\'s height targets behind the latched '
         'ground: a touchdown on a lower or higher tile does not step the stiff legs\' length '

@@ -4,9 +4,11 @@ Section "Masses Reference Trajectories" places each leg mass midway between its 
 hip; the controller inverts it on the commanded next state x_cmd(k+1): the hip is the torso
 mass, a swinging foot is 2 * leg mass - hip, a stance foot stays where it was latched. Feet
 heights and yaws come from the reference window at t + Ts (heights above the stance soles); the
-pelvis is upright at pelvis_height above the stance soles, with the mean heading of the feet.
+pelvis is upright at pelvis_height above the stance soles (their mean, or the ground under the
+commanded ZMP), with the mean heading of the feet.
 """
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -54,7 +56,7 @@ class IkTargets:
 
 def ik_targets(next_state: np.ndarray, feet_next: np.ndarray, support_next: int,
                stance: StanceFeet, model_hip: ModelHip, pelvis_height: float,
-               planned_swing: bool = False) -> IkTargets:
+               planned_swing: bool = False, zmp: Optional[np.ndarray] = None) -> IkTargets:
     """Targets of the pelvis and both soles for the commanded next state.
 
     A swing foot's x and y are 2 * leg mass - hip (the paper), or with planned_swing the
@@ -69,6 +71,8 @@ def ik_targets(next_state: np.ndarray, feet_next: np.ndarray, support_next: int,
     :param model_hip: the pelvis to model hip map
     :param pelvis_height: pelvis above the stance soles (m)
     :param planned_swing: swing feet x, y from feet_next instead of the masses
+    :param zmp: (2,) commanded ZMP: the pelvis stands above the ground under it
+        (StanceFeet.ground_height); None: above the held feet's mean height
     :return: the targets
     """
     hip = next_state[:, state_index(TORSO, POSITION)]
@@ -80,7 +84,7 @@ def ik_targets(next_state: np.ndarray, feet_next: np.ndarray, support_next: int,
             next_state[:, state_index(RIGHT_LEG, POSITION)])
     latched = stance.latched
     held = stance.held(support_next)
-    ground = stance.ground_height(support_next)
+    ground = stance.ground_height(support_next, zmp)
     feet = [latched[side].copy() if held[side] else
             np.array([swing_feet[side][0], swing_feet[side][1], feet_next[side][2] + ground,
                       feet_next[side][3]])

@@ -85,18 +85,33 @@ class StanceFeet:
         """[left, right]: the foot is latched and stays on the ground for this support label."""
         return [self._latched[side] is not None and on_support(side, support) for side in SIDES]
 
-    def ground_height(self, support: int) -> float:
-        """Mean height of the feet held for this support label, or the last one known.
+    def ground_height(self, support: int, zmp: Optional[np.ndarray] = None) -> float:
+        """Height of the ground the robot stands on, from the feet held for this support label.
+
+        Without zmp the mean height of the held feet. With zmp, on two held feet, their heights
+        interpolated at the ZMP's projection on the segment between them (clamped to it): the
+        ground moves with the weight. The mean steps at each touchdown and lift-off by half
+        the feet's difference in height, and on tiles the stiff legs took that step at once
+        (docs/controller_notes.md, "Touchdowns that kick"); under the ZMP nothing changes at a
+        touchdown (the weight is still on the stance foot) nor at the lift-off (it has left).
 
         Between the lift-off of the old stance foot and the confirmed touchdown of the new one
         no foot is held; the ground is then where the feet last stood, not the world's zero
         (on tiles 25-50 mm high that fallback dropped the pelvis target by 45 mm for a cycle).
 
         :param support: the support label (SUPPORT_*) the targets are for
+        :param zmp: (2,) the ZMP (m) to weigh two held feet by, None for their mean
         :return: ground height (m)
         """
-        grounds = [self._latched[side][2] for side, held in enumerate(self.held(support))
-                   if held]
+        held = self.held(support)
+        if all(held) and zmp is not None:
+            left, right = self._latched[LEFT], self._latched[RIGHT]
+            between = right[:2] - left[:2]
+            share = float(np.clip(np.dot(np.asarray(zmp, dtype=float) - left[:2], between)
+                                  / max(float(np.dot(between, between)), 1e-12), 0.0, 1.0))
+            self._last_ground = float((1.0 - share) * left[2] + share * right[2])
+            return self._last_ground
+        grounds = [self._latched[side][2] for side, on in enumerate(held) if on]
         if grounds:
             self._last_ground = float(np.mean(grounds))
         return self._last_ground

@@ -448,7 +448,9 @@ class WalkingController:
         planned = self.params.swing_target == SWING_TARGET_PLANNED
         self._swinging = [not held for held in self._stance.held(support_next)]
         targets = ik_targets(next_state, feet_next, support_next, self._stance,
-                             self._model_hip, self.params.robot.pelvis_height, planned)
+                             self._model_hip, self.params.robot.pelvis_height, planned,
+                             next_state @ self._zmp_row if self.params.pelvis_ground_at_zmp
+                             else None)
         if planned:
             feet = (targets.left_foot, targets.right_foot)
             offsets = self._swing_start.update(
