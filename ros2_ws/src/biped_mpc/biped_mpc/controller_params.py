@@ -106,7 +106,7 @@ class WalkingControllerParams:
         'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
         'planned swing from its planned start', low=0.0, high=10.0)
     pelvis_ground_at_zmp: bool = parameter(
-        False, 'the pelvis stands pelvis_height above the ground under the commanded ZMP (the '
+        True, 'the pelvis stands pelvis_height above the ground under the commanded ZMP (the '
         'held feet\'s heights weighed by where the ZMP is between them), so a touchdown or '
         'lift-off on tiles of different heights does not step the legs\' length; false: above '
         'the held feet\'s mean height')

@@ -14,7 +14,10 @@ landing is what is tested here.
 So is the swing lag (swing_smoothing_time_constant, 0.07 s by default): with it the late
 touchdown is walked through without the landing as well (one run, 2026-12-04), and so is the
 ground conformance (with it the late touchdown is walked through without the landing too,
-2026-12-05).
+2026-12-05), and so is the pelvis over the ground under the ZMP (pelvis_ground_at_zmp, the
+default since 2026-12-06): with it and every other default on, both touchdowns are walked
+through with the landing (one run each), and with the mean it had before, the early one fell;
+with it alone among them, the early one fell.
 """
 import pytest
 
@@ -26,7 +29,8 @@ def walk(sim, robot, terrain, contact_aware_landing):
     controller = WalkingController(WalkingControllerParams(
         robot=robot.controller_model, balance='stabilizer', swing_target='planned',
         contact_aware_landing=contact_aware_landing, hip_strategy_gain=0.0,
-        swing_smoothing_time_constant=0.0, ground_conformance=False))
+        swing_smoothing_time_constant=0.0, ground_conformance=False,
+        pelvis_ground_at_zmp=False))
     modes = []
 
     def on_cycle(t, window, output, readings):
