@@ -334,6 +334,34 @@ def test_a_step_index_no_walk_can_have_neither_hangs_nor_derails_the_planner(gra
     assert response.accepted and response.plan_id == first.plan_id
 
 
+def walk_in_place_with_estimates(g):
+    """Start walking in place with a balance_estimate publisher and a step_adjustment
+    collector; (adjustments, estimates, the walked plan)."""
+    adjustments = Collector(g['client'], StepAdjustment, 'step_adjustment', 10)
+    estimates = g['client'].create_publisher(BalanceEstimate, 'balance_estimate', 10)
+    assert wait_for_subscribers(g['executor'], estimates, count=1, timeout=15)
+    g['cmd_vel'].publish(Twist())  # walk in place
+    return adjustments, estimates, latest_plan(g)
+
+
+def early_right_single_support(reference) -> bool:
+    """A reference that starts early in a single support on the right foot (at least 0.2 s of
+    it ahead): its own support column says so, whatever walking_state lags."""
+    ahead = list(reference.support[:10])
+    return len(ahead) == 10 and all(s == ReferenceTrajectory.SUPPORT_RIGHT for s in ahead)
+
+
+def reference_early_in_right_single_support(g):
+    """Walk on until the newest reference starts early in a right single support; it."""
+    for _ in range(200):
+        g['clock'].advance(0.02, pace=2.0)
+        g['cmd_vel'].publish(Twist())
+        refs = g['refs'].messages
+        if refs and early_right_single_support(refs[-1]):
+            return refs[-1]
+    raise AssertionError('no single support on the right foot')
+
+
 def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references(
         adjusting_graph):
     """A balance estimate whose DCM strays 15 cm to the left in a single support on the right
@@ -342,28 +370,12 @@ def test_a_step_adjustment_reaches_the_plan_the_state_machine_and_the_references
     the plan with it (same plan_id) and steps on from it; the state machine follows the
     touchdown."""
     g = adjusting_graph
-    adjustments = Collector(g['client'], StepAdjustment, 'step_adjustment', 10)
-    estimates = g['client'].create_publisher(BalanceEstimate, 'balance_estimate', 10)
-    assert wait_for_subscribers(g['executor'], estimates, count=1, timeout=15)
-    g['cmd_vel'].publish(Twist())  # walk in place
-    first = latest_plan(g)
-
-    def early_right_single_support(reference):
-        """A reference that starts early in a single support on the right foot (at least
-        0.2 s of it ahead): its own support column says so, whatever walking_state lags."""
-        ahead = list(reference.support[:10])
-        return len(ahead) == 10 and all(s == ReferenceTrajectory.SUPPORT_RIGHT for s in ahead)
+    adjustments, estimates, first = walk_in_place_with_estimates(g)
 
     def newest_early_reference():
         refs = g['refs'].messages
         return refs[-1] if refs and early_right_single_support(refs[-1]) else None
-    for _ in range(200):
-        g['clock'].advance(0.02, pace=2.0)
-        g['cmd_vel'].publish(Twist())
-        if newest_early_reference() is not None:
-            break
-    reference = newest_early_reference()
-    assert reference is not None, 'no single support on the right foot'
+    reference = reference_early_in_right_single_support(g)
     step = reference.step_index[0] - 1  # the reference counts k + 1 during step k
     plans = len(g['plans'].messages)
     omega = math.sqrt(9.81 / 0.5)
@@ -425,24 +437,8 @@ def test_an_early_landing_ends_the_single_support_in_the_references_and_the_stat
     footsteps), its references are in double support from that time, the state machine starts
     the double support then, and the planner keeps its plan."""
     g = early_landing_graph
-    adjustments = Collector(g['client'], StepAdjustment, 'step_adjustment', 10)
-    estimates = g['client'].create_publisher(BalanceEstimate, 'balance_estimate', 10)
-    assert wait_for_subscribers(g['executor'], estimates, count=1, timeout=15)
-    g['cmd_vel'].publish(Twist())  # walk in place
-    first = latest_plan(g)
-
-    def early_right_single_support(reference):
-        ahead = list(reference.support[:10])
-        return len(ahead) == 10 and all(s == ReferenceTrajectory.SUPPORT_RIGHT for s in ahead)
-    reference = None
-    for _ in range(200):
-        g['clock'].advance(0.02, pace=2.0)
-        g['cmd_vel'].publish(Twist())
-        refs = g['refs'].messages
-        if refs and early_right_single_support(refs[-1]):
-            reference = refs[-1]
-            break
-    assert reference is not None, 'no single support on the right foot'
+    adjustments, estimates, first = walk_in_place_with_estimates(g)
+    reference = reference_early_in_right_single_support(g)
     step = reference.step_index[0] - 1
     support = list(reference.support)
     planned_touchdown = seconds_of_stamp(reference.header.stamp) + reference.dt * next(
