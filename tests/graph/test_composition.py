@@ -3,6 +3,7 @@
 The graph walks to a goal with the control path (simulator, reference generator, controller)
 composed in one process, and with every node in one process (bringup --compose).
 """
+from biped_msgs.msg import FootstepPlan
 import numpy as np
 import pytest
 
@@ -23,7 +24,11 @@ def test_a_composed_graph_walks_to_a_goal(composition):
         assert len(session.graph.processes) == len(KNOWN_NODES) - len(compose[0]) + 1
         session.wait_until_ready()
         start = np.array(session.series.pelvis[-1])
-        session.send_goal(start[1] + 0.8, start[2] + 0.2, 0.0)
+        # a goal before the map reached the planner is refused (NO_MAP): sent again then
+        plan = session.plan_answering(
+            lambda: session.send_goal(start[1] + 0.8, start[2] + 0.2, 0.0))
+        assert plan is not None, 'no plan answered the goal'
+        assert plan.status == FootstepPlan.STATUS_OK, f'plan error {plan.error_code}'
         assert session.spin_until(lambda: session.phase() not in (None, IDLE), 60)
         assert session.spin_until(lambda: session.phase() == IDLE or session.fallen(), 240)
         assert not session.fallen()
