@@ -98,8 +98,8 @@ class LandingHold:
     other state (landed; failed; the swing lost) ends it now.
     A hold that runs out lets the plan go on. With end_early, a foot 'landed' more than
     early_lead before t_L, and once early_min_share of its swing has passed, ends the single
-    support now. Nothing else changes the plan: the
-    footsteps, and a landing that comes on time, are the plan's.
+    support now. Nothing else changes the plan: the footsteps, and a landing that comes on
+    time, are the plan's.
 
     :param params: when to hold
     """
