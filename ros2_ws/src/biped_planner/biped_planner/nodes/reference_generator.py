@@ -87,8 +87,7 @@ from biped_planner.nodes.conversions import (checked_pose2d, feet_from_sole_pose
 from biped_planner.pose_checks import PoseBounds
 from biped_planner.reference_params import ReferenceParams
 from biped_planner.reference_session import (check_footsteps, check_plan_start, KIND_EARLY,
-                                              KIND_HELD,
-                                              ReferenceSession)
+                                              KIND_HELD, ReferenceSession)
 from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_planner.standing_feet import settled_feet
@@ -309,15 +308,10 @@ class ReferenceGeneratorNode(Node):
         msg.header.stamp = stamp
         msg.header.frame_id = self._frame
         self._adjustment_pub.publish(msg)
-        if adjustment.kind == KIND_EARLY:  # the footsteps stay, as for a hold
+        retimed = {KIND_HELD: 'held for a late landing', KIND_EARLY: 'landed early'}
+        if adjustment.kind in retimed:  # the footsteps stay: the planner has nothing to send
             self.get_logger().info(
-                f'step {adjustment.step_index} landed early (plan {adjustment.plan_id}, revision '
-                f'{adjustment.revision}): single support ends at t={adjustment.touchdown:.3f} s '
-                f'(planned {adjustment.planned_touchdown:.3f} s)')
-            return
-        if adjustment.kind == KIND_HELD:  # the footsteps stay: the planner has nothing to send
-            self.get_logger().info(
-                f'step {adjustment.step_index} held for a late landing (plan '
+                f'step {adjustment.step_index} {retimed[adjustment.kind]} (plan '
                 f'{adjustment.plan_id}, revision {adjustment.revision}): touchdown at '
                 f't={adjustment.touchdown:.3f} s (planned {adjustment.planned_touchdown:.3f} s)')
             return
