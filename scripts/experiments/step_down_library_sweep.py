@@ -21,6 +21,7 @@ import numpy as np
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.landing_hold import LandingHoldParams
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.push_trial import HUMANOID_ADJUSTER
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import run_trial, step_down_terrain
 from terrain_library_sweep import parse_override  # same folder: run as a script
@@ -40,6 +41,9 @@ def main() -> None:
     parser.add_argument('--landing-hold', type=float, default=None, metavar='SECONDS',
                         help='let the plan wait this long at most for a late landing '
                         '(biped_planner.landing_hold); default: the plan\'s timing')
+    parser.add_argument('--adjust', action='store_true',
+                        help='the online step adjuster replans the steps from the measured '
+                        'DCM (the push trials\' and the graph\'s settings)')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
     args = parser.parse_args()
@@ -65,7 +69,8 @@ def main() -> None:
                 try:
                     result = run_trial(backend, controller, args.steps, 0.1,
                                        step_down_terrain(height, float(edge)),
-                                       landing_hold=hold)
+                                       landing_hold=hold, robot=robot.controller_model,
+                                       adjuster=HUMANOID_ADJUSTER if args.adjust else None)
                 finally:
                     backend.close()
                 walked = not result.fallen and result.distance > edge + WALKED_PAST

@@ -19,6 +19,7 @@ import time
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.landing_hold import LandingHoldParams
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
+from biped_sim.push_trial import HUMANOID_ADJUSTER
 from biped_sim.robot_description import coman_like
 from biped_sim.terrain_trial import edge_terrain, paper_terrain, run_trial
 
@@ -55,6 +56,9 @@ def main() -> None:
                         help='end the single support when a swing foot lands before its time '
                         '(biped_planner.landing_hold end_early; needs the controller\'s '
                         'contact_aware_landing, --set contact_aware_landing=true)')
+    parser.add_argument('--adjust', action='store_true',
+                        help='the online step adjuster replans the steps from the measured '
+                        'DCM (the push trials\' and the graph\'s settings)')
     parser.add_argument('--set', nargs='*', default=[], metavar='FIELD=VALUE',
                         help='WalkingControllerParams fields to override (numbers, true/false)')
     parser.add_argument('--sim', nargs='*', default=[], metavar='FIELD=VALUE',
@@ -88,7 +92,8 @@ def main() -> None:
                 try:
                     if steps:
                         result = run_trial(backend, controller, steps, 0.1, terrain,
-                                           landing_hold=hold)
+                                           landing_hold=hold, robot=robot.controller_model,
+                                           adjuster=HUMANOID_ADJUSTER if args.adjust else None)
                     else:
                         result = run_trial(backend, controller, 0, 0.0, terrain,
                                            duration=args.edge, t_start=1e3)

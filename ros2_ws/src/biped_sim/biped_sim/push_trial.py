@@ -148,7 +148,7 @@ def push_start(reference, phase: str, after: float = FIRST_PUSH_AFTER) -> float:
     raise ConfigError(f'no {phase} phase after {after} s in the plan')
 
 
-def _adjusted_source(reference, robot, adjuster, step_limits, measured_zmp=False, clock=None,
+def adjusted_source(reference, robot, adjuster, step_limits, measured_zmp=False, clock=None,
                      times=None):
     """(source, on_cycle): the reference as the step adjuster replans it from the measured DCM."""
     qp = replace(step_limits, com_height=REFERENCE.com_height)
@@ -198,7 +198,7 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
     reference = walk_reference(step_length, int(math.ceil(walk_time / step_time)) + 2)
     source, on_cycle = reference, None
     if adjuster is not None and adjuster.enabled:
-        source, on_cycle = _adjusted_source(reference, robot, adjuster, step_limits)
+        source, on_cycle = adjusted_source(reference, robot, adjuster, step_limits)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
     pushed, times, withstood = [], [], 0.0
@@ -259,7 +259,7 @@ def run_push_trial(backend, controller, robot, force: float, direction: float, p
     on_cycle = None
     times = []
     if adjuster is not None and adjuster.enabled:
-        source, on_cycle = _adjusted_source(reference, robot, adjuster, step_limits,
+        source, on_cycle = adjusted_source(reference, robot, adjuster, step_limits,
                                             measured_zmp, clock, times)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()

@@ -19,11 +19,13 @@ import numpy as np
 
 from biped_planner.footsteps import straight_footsteps
 from biped_planner.landing_hold import LandingHold, LandingHoldParams
+from biped_planner.step_adjuster import OnlineStepAdjusterParams
 from biped_planner.step_timing import StepTiming
 from biped_planner.walking_reference import ReferenceParams, WalkingReference
 
 from biped_sim.closed_loop import ClosedLoopRunner
 from biped_sim.errors import ConfigError
+from biped_sim.push_trial import adjusted_source, HUMANOID_STEP_LIMITS
 from biped_sim.reference_sources import HeldWalk
 from biped_sim.terrain import generate_terrain, Terrain, TerrainParams
 
@@ -117,6 +119,15 @@ def step_down_terrain(height: float, edge: float, behind: float = 0.5) -> Terrai
                            max_height=height, origin=(-behind, -0.5 * side))
     return Terrain(params, np.full((1, 1), float(height)))
 
+
+def _both(first, second):
+    """One on_cycle callback calling two."""
+    def call(*args):
+        first(*args)
+        second(*args)
+    return call
+
+
 # The paper's tiled area as the graph's terrain scenario lays it out (scripts/biped_tools/
 # scenarios/terrain.py uses these): the same seed gives the same tiles in both. With a 3 m side
 # the library walked other tiles than the graph (100 cm^2 seed 2 stood there and fell in both
@@ -142,7 +153,8 @@ def paper_terrain(tile_area: float, seed: int, side_length: float = PAPER_SIDE,
 
 def run_trial(backend, controller, n_steps: int, step_length: float, terrain=None,
               duration: float = None, t_start: float = T_START,
-              on_cycle=None, landing_hold: Optional[LandingHoldParams] = None) -> TrialResult:
+              on_cycle=None, landing_hold: Optional[LandingHoldParams] = None,
+              adjuster: Optional[OnlineStepAdjusterParams] = None, robot=None) -> TrialResult:
     """Walk straight steps (or stand, n_steps = 0) with the controller on the backend.
 
     :param backend: a PyBulletBackend (its scenery is replaced by the terrain)
@@ -155,8 +167,14 @@ def run_trial(backend, controller, n_steps: int, step_length: float, terrain=Non
     :param on_cycle: called after every cycle as on_cycle(t, window, output, readings)
     :param landing_hold: let the plan wait for late landings (biped_planner.landing_hold);
         None walks the plan's timing
+    :param adjuster: let the online step adjuster replan the steps from the measured DCM, as
+        the push trials do (push_trial.adjusted_source); None walks the plan's steps
+    :param robot: the RobotModel walked (needed with adjuster: the measured DCM's kinematics)
     :return: the measurements
+    :raises ConfigError: for both landing_hold and adjuster, or adjuster without robot
     """
+    if adjuster is not None and (landing_hold is not None or robot is None):
+        raise ConfigError('the step adjuster needs the robot and no landing hold')
     backend.clear_scenery()
     if terrain is not None:
         backend.add_terrain(terrain)
@@ -164,6 +182,9 @@ def run_trial(backend, controller, n_steps: int, step_length: float, terrain=Non
                                  REFERENCE, t_start=t_start)
     source = reference if landing_hold is None else HeldWalk(reference,
                                                               LandingHold(landing_hold))
+    if adjuster is not None:
+        source, observe = adjusted_source(reference, robot, adjuster, HUMANOID_STEP_LIMITS)
+        on_cycle = observe if on_cycle is None else _both(observe, on_cycle)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
     log = runner.run(reference.t_end + 1.0 if duration is None else duration, on_cycle)

@@ -2,7 +2,10 @@
 import numpy as np
 import pytest
 
-from biped_sim.terrain_trial import step_down_terrain
+from biped_planner.landing_hold import LandingHoldParams
+from biped_sim.push_trial import HUMANOID_ADJUSTER
+from biped_sim.robot_description import coman_like
+from biped_sim.terrain_trial import run_trial, step_down_terrain
 
 
 @pytest.mark.parametrize('height, edge', [(0.025, 0.3), (0.05, 0.47)])
@@ -21,3 +24,12 @@ def test_a_flat_or_empty_platform_is_refused():
         step_down_terrain(0.0, 0.4)
     with pytest.raises(ValueError):
         step_down_terrain(0.03, -0.6)
+
+
+def test_a_trial_with_the_step_adjuster_needs_the_robot_and_no_landing_hold():
+    with pytest.raises(ValueError, match='robot'):
+        run_trial(None, None, 4, 0.1, adjuster=HUMANOID_ADJUSTER)
+    with pytest.raises(ValueError, match='landing hold'):
+        run_trial(None, None, 4, 0.1, adjuster=HUMANOID_ADJUSTER,
+                  robot=coman_like().controller_model,
+                  landing_hold=LandingHoldParams(enabled=True, hold_time=0.1))
