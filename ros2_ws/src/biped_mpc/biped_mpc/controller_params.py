@@ -255,6 +255,10 @@ class WalkingControllerParams:
                                                'height (m)', low=0.0, high=0.3)
     landing_max_lead: float = parameter(0.003, 'largest distance a seeking swing foot target '
                                         'runs below the measured sole (m)', low=0.0, high=0.3)
+    landing_seek: bool = parameter(
+        True, 'with contact_aware_landing: a swing foot without contact at its planned landing '
+        'descends until it meets the ground (false: it ends its planned swing, and only a '
+        'sole that touches early is held where it touches)')
 
     def __post_init__(self) -> None:
         if not isinstance(self.robot, RobotModel):

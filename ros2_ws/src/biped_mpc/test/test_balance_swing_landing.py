@@ -141,6 +141,36 @@ def test_a_touching_sole_holds_the_seeking_target():
     released = landing.update(LANDING_TIME + 6 * DT, DT, 0.0, False, height)
     assert released.height == pytest.approx(height - 0.3 * DT)
 
+
+def test_a_sole_touching_early_is_not_pushed_into_the_raised_ground():
+    # The plan goes on down to 0; the sole met a tile 15 mm up, the detector not confirmed yet.
+    params = SwingLandingParams(max_lead=0.003)
+    landing = SwingLanding(params)
+    landing.reset(LANDING_TIME, 0.0)
+    ground = 0.015
+    for k in range(4):
+        t = LANDING_TIME - 0.05 + k * DT
+        result = landing.update(t, DT, planned_height(t), False, ground, touching=True)
+        assert result.mode == SWINGING and result.event is None
+        assert result.height == pytest.approx(max(planned_height(t), ground - 0.003))
+    # untouched, the same cycle follows the plan
+    free = SwingLanding(params)
+    free.reset(LANDING_TIME, 0.0)
+    t = LANDING_TIME - 0.01
+    assert free.update(t, DT, planned_height(t), False, 0.02).height == planned_height(t)
+
+
+def test_without_seeking_a_late_foot_ends_its_planned_swing_and_raises_no_event():
+    log = walk(SwingLanding(SwingLandingParams(seek=False)), ground=-0.03)
+    assert events(log) == []
+    assert all(r.mode == SWINGING and r.height == pytest.approx(planned_height(t))
+               for t, r in log)
+    early = walk(SwingLanding(SwingLandingParams(seek=False)), ground=0.02)
+    kinds = events(early)  # an early contact still freezes the foot where it met the ground
+    assert len(kinds) == 1 and kinds[0][0] == SHRINK
+    assert early[-1][1].mode == LANDED and early[-1][1].height == pytest.approx(0.02)
+
+
 def test_contact_on_time_raises_no_event():
     landing = SwingLanding()
     landing.reset(LANDING_TIME, 0.0)

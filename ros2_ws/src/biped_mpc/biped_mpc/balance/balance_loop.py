@@ -140,7 +140,7 @@ class BalanceLoopParams:
                 gate_distance=p.touchdown_gate_distance),
             landing=SwingLandingParams(descent_speed=p.landing_descent_speed,
                                        max_extra_depth=p.landing_max_extra_depth,
-                                       max_lead=p.landing_max_lead),
+                                       max_lead=p.landing_max_lead, seek=p.landing_seek),
             ft_sensor_height=p.ft_sensor_height, contact_aware_landing=p.contact_aware_landing,
             gate_follows_plan=p.touchdown_gate_follows_plan,
             gate_from_stance=p.touchdown_gate_from_stance,

@@ -60,6 +60,8 @@ class SwingLandingParams:
                                 'measured sole (m): a foot the ground holds is not pushed '
                                 'into it while the touchdown detector confirms', low=0.0,
                                 high=0.3)
+    seek: bool = parameter(True, 'descend after the planned landing until contact (false: '
+                           'the planned swing to its end, held where the sole touches)')
 
     def __post_init__(self) -> None:
         validate_fields(self, ConfigError)
@@ -177,8 +179,10 @@ class SwingLanding:
                 event = SupportTimingEvent(SHRINK, float(t))
             elif self._stretched:
                 event = SupportTimingEvent(RESUME, float(t))
-        elif t < self._landing_time:
+        elif t < self._landing_time or not self.params.seek:
             self._height = float(planned_height)
+            if touching:  # early on raised ground: not pushed in while the detector confirms
+                self._height = max(self._height, float(measured_height) - self.params.max_lead)
         else:
             p = self.params
             deepest = self._landing_height - p.max_extra_depth
