@@ -64,14 +64,22 @@ def pytest_collection_modifyitems(config, items):
 # the flaky page had "message not kept" for most rows.
 FIRST_FAILURES = []
 FIRST_FAILURE_CHARS = 4000  # the end of the report: the assertion and the lines before it
+# The end of what the test printed: a graph test's node logs (GraphSession(log=print)), the
+# nodes' own account of what went wrong before the assertion.
+FIRST_FAILURE_OUTPUT_CHARS = 6000
 
 
 def pytest_runtest_logreport(report):
     if report.outcome == 'rerun':
-        FIRST_FAILURES.append((report.nodeid, report.longreprtext[-FIRST_FAILURE_CHARS:]))
+        output = (report.capstdout + report.capstderr)[-FIRST_FAILURE_OUTPUT_CHARS:]
+        FIRST_FAILURES.append((report.nodeid, report.longreprtext[-FIRST_FAILURE_CHARS:],
+                               output))
 
 
 def pytest_terminal_summary(terminalreporter):
-    for nodeid, text in FIRST_FAILURES:
+    for nodeid, text, output in FIRST_FAILURES:
         terminalreporter.write_sep('-', f'first failure of {nodeid} (it ran again)')
         terminalreporter.write_line(text)
+        if output:
+            terminalreporter.write_sep('-', 'the end of its output')
+            terminalreporter.write_line(output)
