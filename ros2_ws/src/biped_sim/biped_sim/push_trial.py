@@ -149,7 +149,7 @@ def push_start(reference, phase: str, after: float = FIRST_PUSH_AFTER) -> float:
 
 
 def adjusted_source(reference, robot, adjuster, step_limits, measured_zmp=False, clock=None,
-                     times=None):
+                    times=None):
     """(source, on_cycle): the reference as the step adjuster replans it from the measured DCM."""
     qp = replace(step_limits, com_height=REFERENCE.com_height)
     source = AdjustedWalk(reference, OnlineStepAdjuster(adjuster, qp))
@@ -260,7 +260,7 @@ def run_push_trial(backend, controller, robot, force: float, direction: float, p
     times = []
     if adjuster is not None and adjuster.enabled:
         source, on_cycle = adjusted_source(reference, robot, adjuster, step_limits,
-                                            measured_zmp, clock, times)
+                                           measured_zmp, clock, times)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
     runner.push(push)

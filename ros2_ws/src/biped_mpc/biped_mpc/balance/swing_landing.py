@@ -89,7 +89,12 @@ class SwingLandingResult:
 class SwingLanding:
     """The height target of one swing foot near its landing, and the timing events.
 
-    Before the planned landing time t_L the target is the planned swing height. A touchdown
+    Before the planned landing time t_L the target is the planned swing height, but while the
+    sole touches (a normal force the detector has not confirmed yet) at least max_lead below
+    the measured sole: a foot meeting a higher tile is not pushed into it by the rest of its
+    planned descent, which threw the body up (docs/controller_notes.md, "The landing kick's
+    last part"); with seek false the same holds after t_L, with no descent and no events
+    of a late landing. A touchdown
     (touchdown_detector) freezes the target at the sole's measured height, where it met the
     ground: before t_L that is an early contact on raised ground, event 'shrink'. Without
     contact at t_L the target keeps descending at the bounded speed v (IHMC 0.12-0.3 m/s) from
