@@ -95,8 +95,8 @@ class SwingLanding:
     planned descent, which threw the body up (docs/controller_notes.md, "The landing kick's
     last part"); with seek false the same holds after t_L, with no descent and no events
     of a late landing. A touchdown (touchdown_detector) freezes the target at the sole's
-    measured height, where it met the ground: before t_L that is an early contact on raised ground, event 'shrink'. Without
-    contact at t_L the target keeps descending at the bounded speed v (IHMC 0.12-0.3 m/s) from
+    measured height, where it met the ground: before t_L that is an early contact on raised
+    ground, event 'shrink'. Without contact at t_L the target keeps descending at the bounded speed v (IHMC 0.12-0.3 m/s) from
     where it is, h_k = min(h_planned, h_(k-1) - v dt), down to h_L - d_max, event 'stretch';
     a touchdown then freezes it (event 'resume'); reaching d_max without one is a failure
     (event 'missed') and the target stays there. The descent starts from the planned target
