@@ -90,26 +90,26 @@ class SwingLanding:
     """The height target of one swing foot near its landing, and the timing events.
 
     Before the planned landing time t_L the target is the planned swing height, but while the
-    sole touches (a normal force the detector has not confirmed yet) at least max_lead below
-    the measured sole: a foot meeting a higher tile is not pushed into it by the rest of its
-    planned descent, which threw the body up (docs/controller_notes.md, "The landing kick's
-    last part"); with seek false the same holds after t_L, with no descent and no events
-    of a late landing. A touchdown (touchdown_detector) freezes the target at the sole's
-    measured height, where it met the ground: before t_L that is an early contact on raised
-    ground, event 'shrink'. Without contact at t_L the target keeps descending at the bounded speed v (IHMC 0.12-0.3 m/s) from
-    where it is, h_k = min(h_planned, h_(k-1) - v dt), down to h_L - d_max, event 'stretch';
-    a touchdown then freezes it (event 'resume'); reaching d_max without one is a failure
-    (event 'missed') and the target stays there. The descent starts from the planned target
-    of the moment, not from h_L: the planned swing reaches the controller through a lag and
-    is still millimetres above h_L at t_L, and a target jumping to h_L there hit flat ground
-    in one cycle. While seeking, the target stays at most max_lead below the measured sole,
-    h(t) >= z_measured - max_lead, and it holds while the sole is touching (a normal force
-    seen before the detector confirms it): a free foot follows the descent, a foot the
-    ground already holds is not pushed further into it while the detector's filter and dwell
-    confirm the contact (without those bounds, on flat ground every landing was seen 1-3
-    cycles late and the stiff leg pushed the robot up by the depth run in that time). A
-    contact on the first update at or after t_L, before a 'stretch' was raised, is on time:
-    no event. Call reset at each lift-off.
+    sole touches (a normal force the detector has not confirmed yet) at least max_lead below the
+    measured sole: a foot meeting a higher tile is not pushed into it by the rest of its planned
+    descent, which threw the body up (docs/controller_notes.md, "The landing kick's last part");
+    with seek false the same holds after t_L, with no descent and no events of a late landing. A
+    touchdown (touchdown_detector) freezes the target at the sole's measured height, where it
+    met the ground: before t_L that is an early contact on raised ground, event 'shrink'.
+    Without contact at t_L the target keeps descending at the bounded speed v (IHMC 0.12-0.3
+    m/s) from where it is, h_k = min(h_planned, h_(k-1) - v dt), down to h_L - d_max, event
+    'stretch'; a touchdown then freezes it (event 'resume'); reaching d_max without one is a
+    failure (event 'missed') and the target stays there. The descent starts from the planned
+    target of the moment, not from h_L: the planned swing reaches the controller through a lag
+    and is still millimetres above h_L at t_L, and a target jumping to h_L there hit flat ground
+    in one cycle. While seeking, the target stays at most max_lead below the measured sole, h(t)
+    >= z_measured - max_lead, and it holds while the sole is touching (a normal force seen
+    before the detector confirms it): a free foot follows the descent, a foot the ground already
+    holds is not pushed further into it while the detector's filter and dwell confirm the
+    contact (without those bounds, on flat ground every landing was seen 1-3 cycles late and the
+    stiff leg pushed the robot up by the depth run in that time). A contact on the first update
+    at or after t_L, before a 'stretch' was raised, is on time: no event. Call reset at each
+    lift-off.
     """
 
     def __init__(self, params: SwingLandingParams = SwingLandingParams()) -> None:
