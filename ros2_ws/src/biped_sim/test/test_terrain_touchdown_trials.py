@@ -15,9 +15,9 @@ So is the swing lag (swing_smoothing_time_constant, 0.07 s by default): with it 
 touchdown is walked through without the landing as well (one run, 2026-12-04), and so is the
 ground conformance (with it the late touchdown is walked through without the landing too,
 2026-12-05), and so is the pelvis over the ground under the ZMP (pelvis_ground_at_zmp, the
-default since 2026-12-06): with it and every other default on, both touchdowns are walked
-through with the landing (one run each), and with the mean it had before, the early one fell;
-with it alone among them, the early one fell.
+default since 2026-12-06). One run each with the landing (2026-12-06): with every default on,
+both touchdowns are walked through; the same with the pelvis over the held feet's mean, the
+early one fell; with the ZMP ground the only one of these four on, the early one fell.
 """
 import pytest
 
