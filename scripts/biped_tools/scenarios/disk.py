@@ -207,7 +207,9 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
             if not state['sent']:
                 since = state['since']
                 com = session.series.com
-                if lap.swept < 2.0 * math.pi * laps and (not com or com[-1][0] < since):
+                waited_out = time.monotonic() - state['waiting_from'] > PLAN_WAIT
+                if lap.swept < 2.0 * math.pi * laps and (not com or com[-1][0] < since) and \
+                        not waited_out:
                     return False  # the COM up to the step's start decides, not the load
                 if lap.time_left(since, laps) <= STOP_LEAD_OF_LAP:
                     state['stop_at'] = since + COMMAND_DELAY
@@ -216,8 +218,7 @@ def run(trial: Trial, step_length: float, laps: float = 1.0) -> dict:
                 plans = [p for p in session.series.plans
                          if stamp_seconds(p.header.stamp) < since + 1e-6]
                 extended = plans and stamp_seconds(plans[-1].header.stamp) > since - 1e-6
-                late = t >= since + COMMAND_DELAY or \
-                    time.monotonic() - state['waiting_from'] > PLAN_WAIT
+                late = t >= since + COMMAND_DELAY or waited_out
                 if extended or late:
                     if not extended:
                         trial.log(f'[{trial.label}] no plan extended at t={since:.2f} s: the '

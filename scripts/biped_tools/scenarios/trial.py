@@ -220,14 +220,18 @@ class Progress:
 def drive(session: GraphSession, on_time: Callable[[float], bool], sim_duration: float,
           progress: Progress, note: Callable[[], str] = lambda: '') -> bool:
     """Call on_time(t) at each new sim time until it returns True (-> True), the robot falls
-    or sim_duration s of sim time pass (-> False). Wall timeout: 20x the sim duration + 60 s."""
+    or sim_duration s of sim time pass (-> False). Wall timeout: 20x the sim duration + 60 s.
+
+    While the session holds a paced clock (pace_limit set), on_time is called at every turn of
+    the executor, not only at a new sim time: the clock waits for on_time's decision, and the
+    wall-time fallback of that decision (a message that never comes) must run while it waits."""
     end = session.sim_time() + sim_duration
     state = {'t': -1.0, 'done': False}
 
     def tick() -> bool:
         progress(session, note())
         t = session.sim_time()
-        if t != state['t']:
+        if t != state['t'] or session.pace_limit is not None:
             state['t'] = t
             state['done'] = bool(on_time(t))
         return state['done'] or session.fallen() or t >= end
