@@ -157,6 +157,8 @@ class ControllerOutput:
         towards the measured robot this cycle, world x y (m); zero while inside the leash
     :param dcm_leash_shift: (2,) how far the DCM leash of an adjusted walk moved the commanded
         DCM back towards the measured one this cycle, world x y (m); zero while inside
+    :param lift_held: (left, right) the lift-off gate keeps a foot the plan lifts on the
+        ground this cycle
     """
 
     joint_setpoints: np.ndarray
@@ -193,6 +195,7 @@ class ControllerOutput:
     trunk_tilt: np.ndarray = field(default_factory=lambda: np.zeros(2))
     command_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))
     dcm_leash_shift: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    lift_held: tuple = (False, False)
 
     @property
     def cost(self) -> np.ndarray:

@@ -208,6 +208,18 @@ class WalkingControllerParams:
         0.2, 'smallest foothold a cut may leave, as a share of the sole', low=0.0, high=1.0)
     partial_foothold_restore_distance: float = parameter(
         0.01, 'a CoP measured this far beyond a cut removes it (m)', low=0.0, high=0.2)
+    lift_off_gate: bool = parameter(
+        False, 'a foot the plan lifts stays on the ground while the robot stands on it (most '
+        'of the load on it, the DCM over it), so a robot pushed onto its stance foot is not '
+        'dropped by that foot\'s swing (biped_mpc.balance.lift_off_gate)')
+    lift_off_gate_load_share: float = parameter(
+        0.75, 'share of both feet\'s normal load on the lifting foot above which it stays down',
+        low=0.5, high=1.0)
+    lift_off_gate_dcm_margin: float = parameter(
+        0.0, 'the DCM may be this far outside the lifting sole for a hold (m)', low=-0.05,
+        high=0.2)
+    lift_off_gate_max_hold: float = parameter(
+        0.3, 'longest hold of one swing (s): then the plan lifts the foot', low=0.0, high=1.0)
     force_difference_gain: float = parameter(1e-4, 'foot force difference admittance '
                                              '(m/(N s))', low=0.0, high=0.01)
     force_difference_leak_rate: float = parameter(0.1, 'leak of the feet height difference '

@@ -533,7 +533,8 @@ class WalkingController:
                          vertical_offsets=balance.stabilizer.vertical_offsets.copy(),
                          landing_modes=balance.landing_modes,
                          landing_depths=np.array(balance.landing_depths),
-                         trunk_tilt=targets.trunk_tilt.copy())
+                         trunk_tilt=targets.trunk_tilt.copy(),
+                         lift_held=balance.lift_held)
         return ControllerOutput(
             joint_setpoints=ik.q.copy(), joint_velocities=velocities, status=status,
             mpc_status=mpc.mpc_status, solve_time=mpc.solve_time, state=estimate.state,

@@ -1,5 +1,5 @@
-"""The stabilizer's terms reach controller_diagnostics, the hip strategy's trunk tilt and the
-command leash's shift too."""
+"""The stabilizer's terms reach controller_diagnostics, the hip strategy's trunk tilt, the
+command leash's shift and the lift-off gate's holds too."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -16,7 +16,7 @@ def test_every_stabilizer_term_is_copied_into_the_message():
         ankle_conformance=np.array([[0.0, 0.05], [-0.02, 0.0]]),
         vertical_offsets=np.array([0.001, -0.001]), landing_modes=('swinging', 'support'),
         trunk_tilt=np.array([0.12, -0.03]), command_leash_shift=np.array([0.0, 0.031]),
-        dcm_leash_shift=np.array([-0.012, 0.004]))
+        dcm_leash_shift=np.array([-0.012, 0.004]), lift_held=(False, True))
     diag = ControllerDiagnostics()
     stabilizer_terms(diag, output)
     assert list(diag.trunk_tilt) == [0.12, -0.03]
@@ -27,6 +27,7 @@ def test_every_stabilizer_term_is_copied_into_the_message():
     assert list(diag.foot_torque_errors) == [0.0, 1.0, 2.0, 3.0]
     assert list(diag.foot_contacts) == [False, True]
     assert list(diag.landing_modes) == ['swinging', 'support']
+    assert list(diag.lift_held) == [False, True]
 
 
 def test_the_landing_of_the_last_cycle_fills_the_balance_estimate_in_the_planner_words():

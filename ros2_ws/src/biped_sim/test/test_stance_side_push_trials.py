@@ -1,7 +1,8 @@
 """A push towards the stance foot on the PyBullet humanoid, which rolls the robot over its
 sole's edge: walked through when the trunk swings (hip strategy), when the servos' pull back
-is bounded (command leash) or when the MPC's DCM is brought to the measured one as the step is
-adjusted (the DCM leash); without any of them it falls."""
+is bounded (command leash), when the MPC's DCM is brought to the measured one as the step is
+adjusted (the DCM leash) or when the stance foot is not lifted while the robot stands on it
+(lift-off gate); without any of them it falls."""
 import math
 
 import numpy as np
@@ -59,6 +60,14 @@ def test_a_push_towards_the_stance_foot_is_walked_through_on_the_command_leash()
     after = (log.t >= held.push.start_time) & (log.t <= held.push.start_time + 0.6)
     roll = Rotation.from_quat(log.base_orientation[after]).as_euler('xyz')[:, 0]
     assert np.degrees(np.abs(roll)).max() < 5.0  # 3.9 deg measured
+
+
+def test_a_push_towards_the_stance_foot_is_walked_through_with_the_lift_off_gate():
+    """Without the gate the landed foot hangs in the air while the plan lifts the stance
+    foot, the one the robot stands on, and the robot falls onto that side."""
+    robot = coman_like()
+    assert trial(robot).fallen
+    assert not trial(robot, lift_off_gate=True).fallen
 
 
 @pytest.mark.parametrize('gain', [-1.0, 6.0])

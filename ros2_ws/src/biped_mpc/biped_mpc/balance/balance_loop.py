@@ -30,6 +30,7 @@ from biped_mpc.balance.foot_force_difference import FootForceDifferenceParams
 from biped_mpc.balance.ft_filter import cop_of_feet, FootWrenchFilter, FtFilterParams
 from biped_mpc.balance.ground_conformance import GroundConformance, GroundConformanceParams
 from biped_mpc.balance.hip_strategy import HipStrategy, HipStrategyParams
+from biped_mpc.balance.lift_off_gate import LiftOffGate, LiftOffGateParams
 from biped_mpc.balance.partial_foothold import PartialFoothold, PartialFootholdParams
 from biped_mpc.balance.stabilizer import (
     Stabilizer, StabilizerMeasurement, StabilizerOutput, StabilizerParams, StabilizerReference)
@@ -79,6 +80,10 @@ class BalanceLoopParams:
     :param partial_foothold: a sole seen rotating about a line under it is cut there, and
         the stabilizer keeps the CoP on the side that has ground (partial_foothold)
     :param foothold: its thresholds
+    :param lift_off_gate: a foot the plan lifts stays down while the robot stands on it
+        (lift_off_gate; it reads the plan's supports, so it acts only with the stabilizer's
+        planned support)
+    :param lift_gate: its conditions and longest hold
     """
 
     stabilizer: StabilizerParams
@@ -97,6 +102,8 @@ class BalanceLoopParams:
     conformance: GroundConformanceParams = GroundConformanceParams()
     partial_foothold: bool = False
     foothold: PartialFootholdParams = PartialFootholdParams()
+    lift_off_gate: bool = False
+    lift_gate: LiftOffGateParams = LiftOffGateParams()
 
     @classmethod
     def from_controller(cls, params, mass: float, com_height: float) -> 'BalanceLoopParams':
@@ -163,7 +170,12 @@ class BalanceLoopParams:
                 detection_time=p.partial_foothold_detection_time,
                 min_force=p.partial_foothold_min_force,
                 min_area_fraction=p.partial_foothold_min_area_fraction,
-                restore_distance=p.partial_foothold_restore_distance))
+                restore_distance=p.partial_foothold_restore_distance),
+            lift_off_gate=p.lift_off_gate,
+            lift_gate=LiftOffGateParams(
+                load_share=p.lift_off_gate_load_share, dcm_margin=p.lift_off_gate_dcm_margin,
+                max_hold=p.lift_off_gate_max_hold, sole_length=p.sole_length,
+                sole_width=p.sole_width))
 
 
 @dataclass(frozen=True)
@@ -191,6 +203,7 @@ class BalanceResult:
         foot's target has descended (m), 0 for a foot not seeking
     :param conformance: (2, 2) roll and pitch offsets of the sole targets for the ground's
         tilt (rad), added to the stabilizer's foot damping offsets in the targets
+    :param lift_held: (left, right) a foot the plan lifts kept on the ground (lift_off_gate)
     """
 
     targets: IkTargets
@@ -198,6 +211,7 @@ class BalanceResult:
     landing_modes: tuple
     conformance: np.ndarray
     landing_depths: tuple = (0.0, 0.0)
+    lift_held: tuple = (False, False)
 
 
 # A loaded foot refused by the detector's distance gate this long after its planned landing is
@@ -257,6 +271,7 @@ class BalanceLoop:
         self.stabilizer = Stabilizer(params.stabilizer)
         self.hip = HipStrategy(params.hip)
         self.conformance = GroundConformance(params.conformance)
+        self.lift_gate = LiftOffGate(params.lift_gate)
         self._filters = tuple(FootWrenchFilter(params.ft) for _ in SIDES)
         self._detectors = tuple(TouchdownDetector(params.touchdown) for _ in SIDES)
         self._landings = tuple(SwingLanding(params.landing) for _ in SIDES)
@@ -272,6 +287,7 @@ class BalanceLoop:
         self.stabilizer.reset()
         self.hip.reset()
         self.conformance.reset()
+        self.lift_gate.reset()
         for side in SIDES:
             self.footholds[side].reset()
             self._filters[side].reset()
@@ -462,6 +478,14 @@ class BalanceLoop:
             if self._active[side] and self.params.contact_aware_landing:
                 landing = self._land(t, dt, side, feet[side], sensed, soles)
                 modes[side], depths[side] = landing.mode, landing.extra_depth
+        held = [False, False]
+        if self.params.lift_off_gate and planned_feet is not None:
+            held = self.lift_gate.update(
+                dt, [not on for on in planned_feet], [w.normal_force for w in sensed.wrenches],
+                dcm, positions, measurement.feet_yaws)
+            for side in SIDES:
+                if held[side]:
+                    feet[side][2] = positions[side][2]  # at the ground it stands on
         pelvis_target = targets.pelvis.copy()
         pelvis_target[:2] += self._admittance(dt, sensed.zmp, output.zmp)
         # In single support only: on two feet an excess comes from soles resting on tile edges,
@@ -481,7 +505,8 @@ class BalanceLoop:
                                                   loaded)
         stabilized = IkTargets(pelvis_target, feet[0], feet[1], targets.yaw,
                                output.ankle_offsets + conformance, trunk)
-        return BalanceResult(stabilized, output, tuple(modes), conformance, tuple(depths))
+        return BalanceResult(stabilized, output, tuple(modes), conformance, tuple(depths),
+                             tuple(held))
 
     def _land(self, t: float, dt: float, side: int, foot: np.ndarray, sensed: SensedFeet,
               soles: tuple) -> SwingLandingResult:

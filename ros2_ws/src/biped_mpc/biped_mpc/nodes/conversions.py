@@ -78,6 +78,7 @@ def stabilizer_terms(diag: ControllerDiagnostics, output) -> None:
     diag.trunk_tilt = floats(output.trunk_tilt)
     diag.command_leash_shift = floats(output.command_leash_shift)
     diag.dcm_leash_shift = floats(output.dcm_leash_shift)
+    diag.lift_held = [bool(h) for h in output.lift_held]
 
 
 def landing_of(output) -> tuple:
