@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from biped_mpc.balance.lift_off_gate import LiftOffGate, LiftOffGateParams, over_sole
+from biped_mpc.balance.lift_off_gate import LiftOffGate, LiftOffGateParams
 from biped_mpc.errors import ConfigError, InputError
 
 DT = 0.02
@@ -39,15 +39,21 @@ def test_a_margin_widens_the_rectangle_by_itself_on_every_side():
 
 
 @pytest.mark.parametrize('yaw', [math.pi / 2, -2.5])
-def test_over_sole_turns_with_the_sole(yaw):
+def test_the_sole_rectangle_turns_with_the_sole(yaw):
     """A point half a sole length ahead along the sole's heading is on the front edge."""
     centre = np.array([0.3, -0.2, 0.05])
+    soles = np.array([SOLES[0], centre])
+    yaws = (0.0, yaw)
     ahead = centre[:2] + 0.1 * np.array([math.cos(yaw), math.sin(yaw)])
     aside = centre[:2] + 0.05 * np.array([-math.sin(yaw), math.cos(yaw)])
-    assert over_sole(ahead * 0.999999 + centre[:2] * 1e-6, centre, yaw, 0.1, 0.05)
-    assert not over_sole(centre[:2] + 1.001 * (ahead - centre[:2]), centre, yaw, 0.1, 0.05)
-    assert over_sole(centre[:2] + 0.999 * (aside - centre[:2]), centre, yaw, 0.1, 0.05)
-    assert not over_sole(centre[:2] + 1.001 * (aside - centre[:2]), centre, yaw, 0.1, 0.05)
+
+    def held(dcm):
+        return gate().update(DT, RIGHT_LIFTS, ON_RIGHT, dcm, soles, yaws)[1]
+
+    assert held(ahead * 0.999999 + centre[:2] * 1e-6)
+    assert not held(centre[:2] + 1.001 * (ahead - centre[:2]))
+    assert held(centre[:2] + 0.999 * (aside - centre[:2]))
+    assert not held(centre[:2] + 1.001 * (aside - centre[:2]))
 
 
 @pytest.mark.parametrize('forces, held', [

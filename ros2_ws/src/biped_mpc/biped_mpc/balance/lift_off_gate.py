@@ -13,10 +13,10 @@ held again before it lands (a foot that lands early is the landing logic's). The
 is kept; only the foot's height waits, at most `max_hold` s per swing.
 """
 from dataclasses import dataclass
-import math
 
 import numpy as np
 
+from biped_mpc.balance.dcm_feedback import project_into_polygon, rectangle_vertices
 from biped_mpc.errors import ConfigError
 from biped_mpc.validation import check_period
 from biped_planner.parameter_fields import parameter, validate_fields
@@ -43,21 +43,6 @@ class LiftOffGateParams:
 
     def __post_init__(self) -> None:
         validate_fields(self, ConfigError)
-
-
-def over_sole(point, sole_position, sole_yaw: float, half_length: float,
-              half_width: float) -> bool:
-    """Whether a point of the ground plane lies over a sole rectangle (its edges included).
-
-    :param point: (2,) world x, y (m)
-    :param sole_position: the sole centre, world (m); x and y are used
-    :param sole_yaw: the sole's heading (rad)
-    :param half_length: half the rectangle along the sole (m)
-    :param half_width: half the rectangle across it (m)
-    """
-    dx, dy = point[0] - sole_position[0], point[1] - sole_position[1]
-    c, s = math.cos(sole_yaw), math.sin(sole_yaw)
-    return bool(abs(c * dx + s * dy) <= half_length and abs(-s * dx + c * dy) <= half_width)
 
 
 class LiftOffGate:
@@ -100,8 +85,7 @@ class LiftOffGate:
                 self.held[side] = False
                 continue
             standing_on = total >= p.min_load and forces[side] > p.load_share * total and \
-                over_sole(dcm, sole_positions[side], sole_yaws[side],
-                          0.5 * p.sole_length + p.dcm_margin, 0.5 * p.sole_width + p.dcm_margin)
+                self._over_sole(dcm, sole_positions[side], sole_yaws[side])
             self.held[side] = bool(not self._released[side] and standing_on and
                                    self._spent[side] + dt <= p.max_hold + 1e-9)
             if self.held[side]:
@@ -109,3 +93,12 @@ class LiftOffGate:
             else:
                 self._released[side] = True
         return list(self.held)
+
+    def _over_sole(self, dcm, sole_position, sole_yaw: float) -> bool:
+        """The DCM over the sole rectangle widened by dcm_margin on every side, edges included
+        (as run_log's ZMP-inside check)."""
+        p = self.params
+        corners = rectangle_vertices(sole_position, sole_yaw,
+                                     max(p.sole_length + 2.0 * p.dcm_margin, 0.0),
+                                     max(p.sole_width + 2.0 * p.dcm_margin, 0.0))
+        return project_into_polygon(dcm, corners)[1]
