@@ -54,3 +54,21 @@ def test_step_adjustment_recovers_a_push_the_fixed_plan_does_not(paper_reference
     # the plant walked the adjusted plan: it stands at its end
     final = adjusted.reference.sample(adjusted.reference.t_end, 1, 0.02).hip[0]
     np.testing.assert_allclose(adjusted.log.com[-1], final, atol=0.05)
+
+
+def test_replans_from_the_reference_hip_keep_a_pushed_walk_going_forward(paper_reference):
+    """550 N forward, the experiment's adjuster (model_experiments.PAPER_ADJUSTER): every
+    landing after the push is ahead of the one before, and the walk completes. Replanned from
+    the estimate instead, the step's second replan took the push's error in full again and
+    the walk went backwards (landings 0.5, 0.32, 0.02 ... -0.58 m)."""
+    push = ExternalPush((550.0, 0.0, 0.0), duration=0.1, start_time=1.6)
+    setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
+                      polygon_margin=(0.005, 0.004),
+                      step_adjuster=OnlineStepAdjusterParams(replan_hip_from_estimate=False),
+                      step_adjustment=QP)
+    run = walk(paper_reference, setup)
+    assert run.revisions > 0
+    landings = [step.x for step in run.reference.footsteps[2:]]
+    assert all(later > earlier for earlier, later in zip(landings, landings[1:-1]))
+    assert landings[-1] > paper_reference.footsteps[-1].x - 0.1
+    assert evaluate_push_paper(run.log, push).withstood
