@@ -71,8 +71,8 @@ PLANE_NAMES = ('x', 'y')
 PAPER_STEP_ADJUSTMENT = StepAdjustmentParams(reach_forward=1.1, reach_backward=0.3,
                                              step_time_min=0.4, step_time_max=1.2)
 # Replans keep the reference's own hip, as the graph's reference generator does: replanned from
-# the Kalman estimate, the reference took the push's whole error, and the step's second replan
-# undid most of the first (+350 N: the landing 1.49 m, 40 ms later 1.10 m, then steps back).
+# the Kalman estimate, the step's second replan undid most of the first (+350 N: the landing
+# 1.49 m, 40 ms later 1.10 m, then steps backwards; docs/controller_notes.md, "Model plant").
 PAPER_ADJUSTER = OnlineStepAdjusterParams(replan_hip_from_estimate=False)
 
 
