@@ -14,12 +14,13 @@ QP = StepAdjustmentParams(reach_forward=1.1, reach_backward=0.3, step_time_min=0
                           step_time_max=1.2)
 
 
-def pushed_walk(reference, force, adjust):
+def pushed_walk(reference, force, adjust, replan_hip_from_estimate=True):
     push = None if force == 0.0 else ExternalPush((force, 0.0, 0.0), duration=0.1,
                                                   start_time=1.6)
+    adjuster = OnlineStepAdjusterParams(enabled=adjust,
+                                        replan_hip_from_estimate=replan_hip_from_estimate)
     setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
-                      polygon_margin=(0.005, 0.004),
-                      step_adjuster=OnlineStepAdjusterParams(enabled=adjust),
+                      polygon_margin=(0.005, 0.004), step_adjuster=adjuster,
                       step_adjustment=QP)
     return walk(reference, setup), push
 
@@ -61,12 +62,7 @@ def test_replans_from_the_reference_hip_keep_a_pushed_walk_going_forward(paper_r
     landing after the push is ahead of the one before, and the walk completes. Replanned from
     the estimate instead, the step's second replan undid the first (landing 1.43 -> 0.5 m) and
     the walk went backwards (0.5, 0.32, 0.02 ... -0.58 m)."""
-    push = ExternalPush((550.0, 0.0, 0.0), duration=0.1, start_time=1.6)
-    setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
-                      polygon_margin=(0.005, 0.004),
-                      step_adjuster=OnlineStepAdjusterParams(replan_hip_from_estimate=False),
-                      step_adjustment=QP)
-    run = walk(paper_reference, setup)
+    run, push = pushed_walk(paper_reference, 550.0, True, replan_hip_from_estimate=False)
     assert run.revisions > 0
     landings = [step.x for step in run.reference.footsteps[2:]]
     assert all(later > earlier for earlier, later in zip(landings, landings[1:-1]))
