@@ -10,6 +10,7 @@ from biped_mpc.mpc_params import LEG_OUTPUTS, LEG_OUTPUTS_ABSOLUTE, LEG_OUTPUTS_
 
 _REQUIRED = ('zmp', 'left_mass', 'right_mass', 'hip', 'zmp_min', 'zmp_max', 'left_landing_min',
              'left_landing_max', 'right_landing_min', 'right_landing_max')
+_N_REFERENCES = 4  # the first four must be finite; the bounds may be infinite, never NaN
 
 
 def outputs_from_window(window, leg_outputs: str = LEG_OUTPUTS_ABSOLUTE) -> tuple:
@@ -41,24 +42,8 @@ def outputs_from_window(window, leg_outputs: str = LEG_OUTPUTS_ABSOLUTE) -> tupl
     """
     if leg_outputs not in LEG_OUTPUTS:
         raise InputError(f'leg_outputs must be one of {LEG_OUTPUTS}, got {leg_outputs!r}')
-    arrays = {}
-    for name in _REQUIRED:
-        if not hasattr(window, name):
-            raise InputError(f'the reference window has no attribute {name!r}')
-        arrays[name] = np.asarray(getattr(window, name), dtype=float)
-    n = arrays['zmp'].shape[0] if arrays['zmp'].ndim == 2 else -1
-    for name, array in arrays.items():
-        if array.shape != (n, N_PLANES) or n < 1:
-            raise InputError(f'window.{name} must have shape (N, 2) with the N of window.zmp, '
-                             f'got {array.shape}')
-    for name in ('zmp', 'left_mass', 'right_mass', 'hip'):
-        if not np.isfinite(arrays[name]).all():
-            raise InputError(f'window.{name} must be finite')
-    for name in ('zmp_min', 'zmp_max', 'left_landing_min', 'left_landing_max',
-                 'right_landing_min', 'right_landing_max'):
-        if np.isnan(arrays[name]).any():
-            raise InputError(f'window.{name} contains NaN')
-
+    arrays = dict(zip(_REQUIRED, _window_arrays(window)))
+    n = arrays['zmp'].shape[0]
     y_ref = np.empty((N_PLANES, n, N_OUTPUTS))
     y_ref[:, :, OUTPUT_LEFT_LEG] = arrays['left_mass'].T
     y_ref[:, :, OUTPUT_RIGHT_LEG] = arrays['right_mass'].T
@@ -83,6 +68,49 @@ def outputs_from_window(window, leg_outputs: str = LEG_OUTPUTS_ABSOLUTE) -> tupl
     if not (y_min <= y_max).all():
         raise InputError('the window has a lower bound above its upper bound')
     return y_ref, y_min, y_max
+
+
+def _window_arrays(window) -> np.ndarray:
+    """The _REQUIRED attributes of a window as one (10, N, 2) array, checked.
+
+    One stacked array and three checks on it: a window is sampled every control cycle, and
+    the twenty checks of the arrays one by one cost more than the rest of the adapter.
+
+    :raises InputError: as outputs_from_window says
+    """
+    try:
+        stacked = np.array([getattr(window, name) for name in _REQUIRED], dtype=float)
+    except (AttributeError, ValueError, TypeError):
+        stacked = None
+    if (stacked is None or stacked.ndim != 3 or stacked.shape[1] < 1
+            or stacked.shape[2] != N_PLANES or not np.isfinite(stacked[:_N_REFERENCES]).all()
+            or np.isnan(stacked[_N_REFERENCES:]).any()):
+        _raise_window_error(window)
+    return stacked
+
+
+def _raise_window_error(window) -> None:
+    """Name what is wrong with a window that failed _window_arrays's checks."""
+    arrays = {}
+    for name in _REQUIRED:
+        if not hasattr(window, name):
+            raise InputError(f'the reference window has no attribute {name!r}')
+        try:
+            arrays[name] = np.asarray(getattr(window, name), dtype=float)
+        except (ValueError, TypeError) as error:
+            raise InputError(f'window.{name} is not an array of numbers: {error}') from None
+    n = arrays['zmp'].shape[0] if arrays['zmp'].ndim == 2 else -1
+    for name, array in arrays.items():
+        if array.shape != (n, N_PLANES) or n < 1:
+            raise InputError(f'window.{name} must have shape (N, 2) with the N of window.zmp, '
+                             f'got {array.shape}')
+    for name in _REQUIRED[:_N_REFERENCES]:
+        if not np.isfinite(arrays[name]).all():
+            raise InputError(f'window.{name} must be finite')
+    for name in _REQUIRED[_N_REFERENCES:]:
+        if np.isnan(arrays[name]).any():
+            raise InputError(f'window.{name} contains NaN')
+    raise InputError('the reference window is malformed')
 
 
 @dataclass(frozen=True)

@@ -74,16 +74,18 @@ def test_unknown_leg_outputs_raise():
         outputs_from_window(fake_window(), 'feet')
 
 
-@pytest.mark.parametrize('mutate', [
-    lambda w: w.zmp.__setitem__((2, 0), np.nan),
-    lambda w: w.left_mass.__setitem__((0, 1), np.inf),
-    lambda w: w.zmp_min.__setitem__((1, 1), np.nan),
-    lambda w: setattr(w, 'hip', np.zeros((5, 2))),
-    lambda w: delattr(w, 'right_landing_max'),
-    lambda w: setattr(w, 'zmp_min', np.full((6, 2), 0.1)),
+@pytest.mark.parametrize('mutate, message', [
+    (lambda w: w.zmp.__setitem__((2, 0), np.nan), 'window.zmp must be finite'),
+    (lambda w: w.left_mass.__setitem__((0, 1), np.inf), 'window.left_mass must be finite'),
+    (lambda w: w.zmp_min.__setitem__((1, 1), np.nan), 'window.zmp_min contains NaN'),
+    (lambda w: setattr(w, 'hip', np.zeros((5, 2))), r'window.hip must have shape'),
+    (lambda w: delattr(w, 'right_landing_max'), "no attribute 'right_landing_max'"),
+    (lambda w: setattr(w, 'zmp_min', np.full((6, 2), 0.1)), 'lower bound above'),
+    (lambda w: setattr(w, 'right_mass', [['a', 'b']] * 6), 'window.right_mass is not an array'),
+    (lambda w: setattr(w, 'zmp', np.zeros((0, 2))), 'window.zmp must have shape'),
 ])
-def test_bad_windows_raise(mutate):
+def test_bad_windows_raise_naming_what_is_wrong(mutate, message):
     window = fake_window()
     mutate(window)
-    with pytest.raises(InputError):
+    with pytest.raises(InputError, match=message):
         outputs_from_window(window)

@@ -11,6 +11,11 @@ import numpy as np
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a x b of 3-vectors or of (n, 3) rows: np.cross's products and differences, without its
     dispatch, which costs more than the product on a few vectors (sensing, F/T filtering)."""
+    if np.ndim(a) == 1 and np.ndim(b) == 1 and len(a) == 3 and len(b) == 3:
+        # Two 3-vectors, the controller's usual case: the same IEEE products on Python floats.
+        a0, a1, a2 = a.tolist() if isinstance(a, np.ndarray) else a
+        b0, b1, b2 = b.tolist() if isinstance(b, np.ndarray) else b
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
     return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
                      a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
                      a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)

@@ -63,3 +63,5 @@ def test_cross_is_numpy_s_to_the_bit(seed):
     a, b = np.random.default_rng(seed).normal(size=(2, 5, 3))
     np.testing.assert_array_equal(rotations.cross(a, b), np.cross(a, b))
     np.testing.assert_array_equal(rotations.cross(a[0], b[0]), np.cross(a[0], b[0]))
+    np.testing.assert_array_equal(rotations.cross(a[0], b), np.cross(a[0], b))
+    np.testing.assert_array_equal(rotations.cross(list(a[1]), tuple(b[1])), np.cross(a[1], b[1]))
