@@ -105,6 +105,10 @@ class WalkingControllerParams:
         0.1, 'with the planned swing target: a swing starts where the foot was latched and '
         'this is the decay time of that lift-off offset from the planned swing (s); 0: the '
         'planned swing from its planned start', low=0.0, high=10.0)
+    swing_retarget: bool = parameter(
+        False, 'with the planned swing target: when the plan moves a swinging foot\'s landing '
+        '(step adjustment), the target\'s jump fades out by the touchdown instead of whipping '
+        'the foot (biped_mpc.swing_retarget)')
     pelvis_ground_at_zmp: bool = parameter(
         True, 'the pelvis stands pelvis_height above the ground under the commanded ZMP (the '
         'held feet\'s heights weighed by where the ZMP is between them), so a touchdown or '

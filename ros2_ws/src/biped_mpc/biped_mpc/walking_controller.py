@@ -90,6 +90,7 @@ from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
 from biped_mpc.swing_attitude import attitude_correction, corrected_swing_target
 from biped_mpc.swing_smoothing import SwingSmoothing
+from biped_mpc.swing_retarget import planned_touchdowns, SwingRetarget
 from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
 from biped_planner.rotations import (quaternion_to_matrix, rotation_x, rotation_y, rotation_z,
@@ -176,6 +177,7 @@ class WalkingController:
         self._servo = PelvisVelocityServo(params.pelvis_velocity_gain, self._dt)
         self._swing_start = SwingStart(params.swing_start_time_constant)
         self._swing_smoothing = SwingSmoothing(params.swing_smoothing_time_constant)
+        self._swing_retarget = SwingRetarget() if params.swing_retarget else None
         self._height_continuity = HeightContinuity(params.height_continuity_time_constant,
                                                    params.height_continuity_deadband)
         self._swinging = [False, False]
@@ -223,6 +225,8 @@ class WalkingController:
         self._servo.reset(pelvis)
         self._swing_start.reset()
         self._swing_smoothing.reset()
+        if self._swing_retarget is not None:
+            self._swing_retarget.reset()
         self._height_continuity.reset()
         if self._balance is not None:
             self._balance.reset(soles)
@@ -289,7 +293,7 @@ class WalkingController:
         mpc = self._solve_mpc(estimate.state, references)
         command = self._command.copy()
         next_state = self._advance(mpc.jerk)
-        targets = self._targets(next_state, references, soles)
+        targets = self._targets(t, window, next_state, references, soles)
         balance = None
         if sensed is not None:
             balance = self._stabilize(t, targets, sensed, soles, pelvis, command, estimate,
@@ -435,8 +439,8 @@ class WalkingController:
         self._command = next_state
         return next_state
 
-    def _targets(self, next_state: np.ndarray, references: Optional[CycleReferences],
-                 soles: tuple) -> IkTargets:
+    def _targets(self, t: float, window, next_state: np.ndarray,
+                 references: Optional[CycleReferences], soles: tuple) -> IkTargets:
         """Pelvis and soles targets; without references the feet stay where they are."""
         if references is not None:
             feet_next, support_next = references.feet_next, references.support_next
@@ -458,6 +462,10 @@ class WalkingController:
                 np.array([feet[side][:2] for side in SIDES]))
             for side in SIDES:
                 feet[side][:2] += offsets[side]
+            if self._swing_retarget is not None and references is not None:
+                for side, offset in enumerate(self._retarget_offsets(t, window, references,
+                                                                     support_next)):
+                    feet[side][:2] += offset
             smoothed = self._swing_smoothing.update(
                 self._dt, self._stance.held(support_next), np.array([f[:3] for f in feet]))
             for side in SIDES:
@@ -467,6 +475,18 @@ class WalkingController:
             [targets.left_foot[2], targets.right_foot[2]], float(targets.pelvis[2]))
         targets.left_foot[2], targets.right_foot[2] = heights
         return targets
+
+    def _retarget_offsets(self, t: float, window, references: CycleReferences,
+                          support_next: int) -> np.ndarray:
+        """The swing retarget's offsets of the targets at t + Ts (the window is valid: its
+        references were read from it)."""
+        feet = (np.asarray(window.left_foot, dtype=float),
+                np.asarray(window.right_foot, dtype=float))
+        after = min(2, feet[LEFT].shape[0] - 1)
+        return self._swing_retarget.update(
+            t + self._dt, self._dt, self._stance.held(support_next), references.feet_next[:, :2],
+            np.array([feet[side][after, :2] for side in SIDES]),
+            planned_touchdowns(np.asarray(window.support), t, self._dt))
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
                    pelvis: np.ndarray, command: np.ndarray, estimate: _Estimate,

@@ -106,6 +106,7 @@ class PushScheduleResult:
     :param fall_time: when the robot fell (s), NaN without a fall
     :param largest_withstood: the largest force walked through before a fall (N), 0 for none
     :param revisions: plan revisions the step adjuster made (0 without it)
+    :param footsteps: the plan's footsteps at the end, as the adjuster left them
     """
 
     forces: tuple
@@ -113,6 +114,7 @@ class PushScheduleResult:
     fall_time: float
     largest_withstood: float
     revisions: int
+    footsteps: tuple = ()
 
 
 def walk_reference(step_length: float = 0.0, n_steps: int = 16) -> WalkingReference:
@@ -217,14 +219,18 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
                          on_cycle=on_cycle)
         if log.fallen:
             return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
-                                      withstood, _revisions(source))
+                                      withstood, _revisions(source), _footsteps(source))
         withstood = max(withstood, force)
     return PushScheduleResult(tuple(pushed), tuple(times), math.nan, withstood,
-                              _revisions(source))
+                              _revisions(source), _footsteps(source))
 
 
 def _revisions(source) -> int:
     return source.revision if isinstance(source, AdjustedWalk) else 0
+
+
+def _footsteps(source) -> tuple:
+    return tuple((source.reference if isinstance(source, AdjustedWalk) else source).footsteps)
 
 
 def run_push_trial(backend, controller, robot, force: float, direction: float, phase: str,
