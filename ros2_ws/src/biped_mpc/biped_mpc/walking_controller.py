@@ -89,8 +89,8 @@ from biped_mpc.reference_adapter import cycle_references, CycleReferences
 from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
 from biped_mpc.swing_attitude import attitude_correction, corrected_swing_target
-from biped_mpc.swing_smoothing import SwingSmoothing
 from biped_mpc.swing_retarget import planned_touchdowns, SwingRetarget
+from biped_mpc.swing_smoothing import SwingSmoothing
 from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
 from biped_planner.rotations import (quaternion_to_matrix, rotation_x, rotation_y, rotation_z,
@@ -483,10 +483,12 @@ class WalkingController:
         feet = (np.asarray(window.left_foot, dtype=float),
                 np.asarray(window.right_foot, dtype=float))
         after = min(2, feet[LEFT].shape[0] - 1)
+        planned_after = np.array([feet[side][after, :2] for side in SIDES])
+        if not np.all(np.isfinite(planned_after)):  # only samples 0 and 1 were checked
+            planned_after = references.feet_next[:, :2]
         return self._swing_retarget.update(
             t + self._dt, self._dt, self._stance.held(support_next), references.feet_next[:, :2],
-            np.array([feet[side][after, :2] for side in SIDES]),
-            planned_touchdowns(np.asarray(window.support), t, self._dt))
+            planned_after, planned_touchdowns(np.asarray(window.support), t, self._dt))
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
                    pelvis: np.ndarray, command: np.ndarray, estimate: _Estimate,

@@ -163,6 +163,27 @@ def test_a_planned_swing_target_aims_at_the_planned_trajectory(robot, reference,
     assert out.stance == ((True, False) if support == SUPPORT_LEFT else (False, True))
 
 
+def test_a_retargeted_swing_keeps_its_target_when_the_plan_moves_its_landing(robot, reference,
+                                                                            ik):
+    controller = WalkingController(WalkingControllerParams(
+        robot=robot, balance='open_loop', swing_target='planned', swing_retarget=True,
+        swing_start_time_constant=0.0, swing_smoothing_time_constant=0.0))
+    t = _single_support_time(reference, SUPPORT_LEFT)   # the right foot swings
+    feedback = standing_feedback(ik)
+    controller.reset(t, feedback)
+    first = reference.sample(t, N_SAMPLES, DT)
+    controller.step(t, first, feedback)
+    later = reference.sample(t + DT, N_SAMPLES, DT)
+    moved = dataclasses.replace(later, right_foot=later.right_foot + [0.05, 0.0, 0.0])
+    out = controller.step(t + DT, moved, feedback)
+    # the target the first window planned for t + 2 Ts, not the moved plan's 5 cm ahead
+    np.testing.assert_allclose(out.right_foot_target[:2], first.right_foot[2][:2], atol=1e-12)
+    nan_later = dataclasses.replace(moved, right_foot=moved.right_foot.copy())
+    nan_later.right_foot[5:] = np.nan   # only samples 0 and 1 are the cycle's
+    out = controller.step(t + 2 * DT, nan_later, feedback)
+    assert np.all(np.isfinite(out.right_foot_target))
+
+
 def test_feet_targets_invert_the_mass_references():
     rng = np.random.default_rng(3)
     hip, left, right = rng.normal(size=(3, 5, 2))
