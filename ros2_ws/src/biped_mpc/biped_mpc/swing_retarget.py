@@ -6,7 +6,6 @@ import numpy as np
 
 from biped_mpc.errors import InputError
 from biped_mpc.validation import check_period, finite_array
-from biped_mpc.stance_feet import on_support
 from biped_planner.sides import SIDES
 from biped_planner.swing_trajectory import swing_progress
 
@@ -59,7 +58,7 @@ class SwingRetarget:
         :param planned_after: (2, 2) the same plan's targets at t + dt (m), which the next
             cycle compares its own with
         :param touchdowns: per foot the planned touchdown time after t (s), None if the plan
-            shows none
+            shows none (biped_mpc.balance.balance_loop.planned_landing)
         :return: (2, 2) x, y offsets to add to the planned targets of the swing feet (m)
         :raises InputError: for a non-finite or misshaped input
         """
@@ -89,17 +88,3 @@ class SwingRetarget:
             offsets[side] = offset
         return offsets
 
-
-def planned_touchdowns(support: Sequence[int], t: float, dt: float) -> list:
-    """Per foot the time of the first sample after the first at which it supports, or None.
-
-    :param support: the window's support labels (biped_planner.sides SUPPORT_*), sampled at
-        t, t + dt, ...
-    """
-    touchdowns = [None, None]
-    for side in SIDES:
-        for k in range(1, len(support)):
-            if on_support(side, int(support[k])):
-                touchdowns[side] = t + k * dt
-                break
-    return touchdowns

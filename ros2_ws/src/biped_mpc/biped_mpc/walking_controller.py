@@ -65,7 +65,7 @@ from biped_mpc.controller_io import (
     ControllerFeedback, ControllerOutput, STATUS_IK_CLIPPED, STATUS_IK_ERROR, STATUS_MPC_ERROR,
     STATUS_MPC_FALLBACK, STATUS_OK, STATUS_REFERENCE_ERROR)
 from biped_mpc.balance.balance_loop import (BalanceLoop, BalanceLoopParams, BalanceResult,
-                                            SensedFeet)
+                                            planned_landing, SensedFeet)
 from biped_mpc.balance.stabilizer import StabilizerReference
 from biped_mpc.command_leash import (
     dcm_leash_excess, leash_shift, shift_positions, shift_velocities)
@@ -89,7 +89,7 @@ from biped_mpc.reference_adapter import cycle_references, CycleReferences
 from biped_mpc.stance_feet import on_support, StanceFeet
 from biped_mpc.state_estimator import StateEstimator
 from biped_mpc.swing_attitude import attitude_correction, corrected_swing_target
-from biped_mpc.swing_retarget import planned_touchdowns, SwingRetarget
+from biped_mpc.swing_retarget import SwingRetarget
 from biped_mpc.swing_smoothing import SwingSmoothing
 from biped_mpc.swing_start import SwingStart
 from biped_mpc.three_mass_model import three_mass_model
@@ -486,9 +486,10 @@ class WalkingController:
         planned_after = np.array([feet[side][after, :2] for side in SIDES])
         if not np.all(np.isfinite(planned_after)):  # only samples 0 and 1 were checked
             planned_after = references.feet_next[:, :2]
+        landings = [planned_landing(window, side, t, self._dt) for side in SIDES]
         return self._swing_retarget.update(
             t + self._dt, self._dt, self._stance.held(support_next), references.feet_next[:, :2],
-            planned_after, planned_touchdowns(np.asarray(window.support), t, self._dt))
+            planned_after, [None if landing is None else landing[0] for landing in landings])
 
     def _stabilize(self, t: float, targets: IkTargets, sensed: SensedFeet, soles: tuple,
                    pelvis: np.ndarray, command: np.ndarray, estimate: _Estimate,

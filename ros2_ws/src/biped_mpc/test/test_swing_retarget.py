@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from biped_mpc.errors import InputError
-from biped_mpc.swing_retarget import FALLBACK_FADE, planned_touchdowns, SwingRetarget
-from biped_planner.sides import LEFT, RIGHT, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
+from biped_mpc.swing_retarget import FALLBACK_FADE, SwingRetarget
+from biped_planner.sides import LEFT
 from biped_planner.swing_trajectory import swing_progress
 
 DT = 0.02
@@ -93,13 +93,6 @@ def test_without_a_touchdown_in_the_window_a_jump_fades_over_the_fallback():
     assert retarget.offset_at(LEFT, DT)[1] == pytest.approx(-0.03)
     assert retarget.offset_at(LEFT, DT + FALLBACK_FADE)[1] == pytest.approx(0.0)
     assert retarget.offset_at(LEFT, DT + 0.5 * FALLBACK_FADE)[1] == pytest.approx(-0.015)
-
-
-def test_touchdowns_are_the_first_later_samples_on_which_each_foot_supports():
-    support = [SUPPORT_RIGHT, SUPPORT_RIGHT, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_LEFT]
-    left, right = planned_touchdowns(support, 1.0, DT)
-    assert left == pytest.approx(1.0 + 2 * DT) and right == pytest.approx(1.0 + DT)
-    assert planned_touchdowns([SUPPORT_LEFT, SUPPORT_LEFT], 0.0, DT)[RIGHT] is None
 
 
 @pytest.mark.parametrize('planned, after, held, touchdowns', [
