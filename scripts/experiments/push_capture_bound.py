@@ -23,7 +23,7 @@ from biped_sim.robot_description import coman_like
 
 GAITS = {'in_place': 0.0, 'forward': 0.1}
 DIRECTIONS = tuple(range(0, 360, 45))
-SAMPLE = 1e-3  # s between the two plan samples that give the DCM
+SAMPLE = 1e-3  # s, the sample period of the one-sample window that gives the feet
 
 
 def robot_mass() -> float:
@@ -37,9 +37,8 @@ def situations(step_length: float, phase: str, cop_margin: float = 0.0) -> tuple
     kept cop_margin (m) inside the soles' edges."""
     reference = push_trial.walk_reference(step_length)
     start = push_trial.push_start(reference, phase)
-    window = reference.sample(start, 2, SAMPLE)
-    omega = push_trial.HUMANOID_STEP_LIMITS.omega
-    dcm = window.hip[0] + (window.hip[1] - window.hip[0]) / SAMPLE / omega
+    window = reference.sample(start, 1, SAMPLE)
+    dcm = reference.lipm.state_at(start)[1]
     now = next(p for p in reference.phases if p.t_begin <= start < p.t_end)
     if now.support in (SUPPORT_LEFT, SUPPORT_RIGHT):
         swinging, next_swing, elapsed = now.swing_side, now.swing_side, start - now.t_begin
