@@ -14,12 +14,13 @@ push_trial.HUMANOID_STEP_LIMITS).
 
 Usage: .venv/bin/python scripts/experiments/push_library_ladder.py [--adjustment off]
            [--gait forward] [--directions 0,90] [--phases early_single,double] [--forces 80,110,140]
-           [qp.offset_weight=100.0 ...]
+           [--schedule [--offsets=-0.01,0,0.01]] [qp.offset_weight=100.0 ...]
 """
 import argparse
 import ast
 from dataclasses import replace
 import math
+import statistics
 import time
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
@@ -49,8 +50,10 @@ def overrides(settings) -> dict:
     return groups
 
 
-def cell(args, robot, params, adjuster, limits, forces, direction, phase) -> float:
-    """The largest force of the ladder walked through at one direction and phase (N)."""
+def cell(args, robot, params, adjuster, limits, forces, direction, phase,
+         offset: float = 0.0) -> float:
+    """The largest force of the ladder walked through at one direction and phase (N), the
+    scheduled pushes started `offset` s later in their phase."""
     def simulator():
         # a fresh simulator per trial: PyBullet's contact state carries over a reset, and a
         # cell's figure depended on the trials run before it
@@ -62,7 +65,7 @@ def cell(args, robot, params, adjuster, limits, forces, direction, phase) -> flo
             return push_trial.run_push_schedule(
                 backend, WalkingController(params), robot.controller_model, forces,
                 math.radians(direction), phase, adjuster, limits,
-                step_length=GAITS[args.gait]).largest_withstood
+                step_length=GAITS[args.gait], phase_offset=offset).largest_withstood
         finally:
             backend.close()
     best = 0.0
@@ -92,12 +95,19 @@ def main() -> None:
     parser.add_argument('--schedule', action='store_true',
                         help="one walk per cell pushed every 3 s with the growing forces, as "
                              "the graph's push-directions does (default: a fresh walk per force)")
+    parser.add_argument('--offsets', default='0',
+                        help="with --schedule: s added to the pushes' start in their phase, one "
+                             "walk each, a cell the median (--offsets=-0.015,0,0.015: a cell's "
+                             "figure changes with the instant within its phase)")
     parser.add_argument('settings', nargs='*', help='GROUP.NAME=VALUE')
     args = parser.parse_args()
     settings = overrides(args.settings)
     directions = [float(d) for d in args.directions.split(',')]
     phases = args.phases.split(',')
     forces = [float(f) for f in args.forces.split(',')]
+    offsets = [float(o) for o in args.offsets.split(',')]
+    if len(offsets) > 1 and not args.schedule:
+        raise SystemExit('--offsets needs --schedule')
     robot = coman_like()
     params = WalkingControllerParams(robot=robot.controller_model,
                                      **{'model': 'three_mass', 'balance': 'stabilizer',
@@ -109,7 +119,8 @@ def main() -> None:
     limits = replace(push_trial.HUMANOID_STEP_LIMITS, **settings['qp'])
     wall = time.monotonic()
     print(f'{params.model}, {args.gait.replace("_", " ")}, adjustment {args.adjustment}, '
-          f'{"one walk pushed every 3 s" if args.schedule else "a fresh walk per force"}, settings '
+          f'{"one walk pushed every 3 s" if args.schedule else "a fresh walk per force"}'
+          f'{f", median over push offsets {offsets} s" if len(offsets) > 1 else ""}, settings '
           f'{args.settings or "default"}: largest push walked through (N)\n')
     print('| direction | ' + ' | '.join(phases) + ' |')
     print('|---|' + '---|' * len(phases))
@@ -117,7 +128,9 @@ def main() -> None:
     for direction in directions:
         row = []
         for phase in phases:
-            row.append(cell(args, robot, params, adjuster, limits, forces, direction, phase))
+            row.append(statistics.median(
+                cell(args, robot, params, adjuster, limits, forces, direction, phase, offset)
+                for offset in offsets))
         withstood += row
         print(f'| {direction:.0f} deg | ' + ' | '.join(f'{f:.0f}' for f in row) + ' |',
               flush=True)

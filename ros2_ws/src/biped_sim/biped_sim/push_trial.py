@@ -51,6 +51,8 @@ RECOVERY_SWING_LAG = 0.0
 SCHEDULE_FIRST_PUSH = 3.0
 SCHEDULE_INTERVAL = 3.0
 SCHEDULE_LOOKAHEAD = 1.0  # s: a push is placed from the plan this long before it
+# s: the largest shift of a scheduled push inside its phase (run_push_schedule)
+MAX_PHASE_OFFSET = 0.05
 # phase name: (support of the phase, push start after the phase start (s))
 PHASES = {
     'early_single': (SUPPORT_RIGHT, 0.25 * TIMING.single_support),
@@ -175,7 +177,8 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
                       adjuster: Optional[OnlineStepAdjusterParams] = None,
                       step_limits: StepAdjustmentParams = HUMANOID_STEP_LIMITS,
                       step_length: float = 0.0,
-                      interval: float = SCHEDULE_INTERVAL) -> PushScheduleResult:
+                      interval: float = SCHEDULE_INTERVAL,
+                      phase_offset: float = 0.0) -> PushScheduleResult:
     """One walk pushed again and again, as the graph's push-directions trial does.
 
     The forces are pushed in order, one every `interval` s from SCHEDULE_FIRST_PUSH s into the
@@ -186,8 +189,11 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
 
     :param forces: push magnitudes in order (N), each finite and >= 0
     :param interval: s between the due times of two pushes, > SCHEDULE_LOOKAHEAD
+    :param phase_offset: s added to each push's start in its phase, |offset| <= 0.05: a cell
+        is a region of the gait, and nearby starts show how much its figure owes to the exact
+        instant
     :return: the schedule's outcome
-    :raises ConfigError: for a bad force, an unknown phase or a too short interval
+    :raises ConfigError: for a bad force, an unknown phase, a too short interval or offset
     """
     forces = tuple(float(f) for f in forces)
     if not forces or not all(math.isfinite(f) and f >= 0.0 for f in forces):
@@ -195,6 +201,9 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
     if not math.isfinite(interval) or interval <= SCHEDULE_LOOKAHEAD + PUSH_DURATION:
         raise ConfigError(f'interval must exceed {SCHEDULE_LOOKAHEAD + PUSH_DURATION} s, got '
                           f'{interval!r}')
+    if not (math.isfinite(phase_offset) and abs(phase_offset) <= MAX_PHASE_OFFSET):
+        raise ConfigError(f'phase_offset must be within +-{MAX_PHASE_OFFSET} s, got '
+                          f'{phase_offset!r}')
     walk_time = SCHEDULE_FIRST_PUSH + interval * (len(forces) + 1)
     step_time = TIMING.single_support + TIMING.double_support
     reference = walk_reference(step_length, int(math.ceil(walk_time / step_time)) + 2)
@@ -208,7 +217,7 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
     for force in forces:
         runner.run(max(due - SCHEDULE_LOOKAHEAD - backend.time, 0.0), on_cycle=on_cycle)
         plan = source.reference if isinstance(source, AdjustedWalk) else reference
-        start = push_start(plan, phase, after=max(due, backend.time + 0.1))
+        start = push_start(plan, phase, after=max(due, backend.time + 0.1)) + phase_offset
         runner.push(ExternalPush(force=(force * math.cos(direction),
                                         force * math.sin(direction), 0.0),
                                  duration=PUSH_DURATION, start_time=start))

@@ -68,14 +68,14 @@ def test_push_starts_in_its_phase(phase):
         assert support == SUPPORT_RIGHT and delay == pytest.approx(0.075)
 
 
-def schedule(robot, forces, interval=3.0):
+def schedule(robot, forces, interval=3.0, phase_offset=0.0):
     sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
     try:
         controller = WalkingController(WalkingControllerParams(
             robot=robot.controller_model, balance='stabilizer', swing_target='planned',
             swing_smoothing_time_constant=RECOVERY_SWING_LAG))
         return run_push_schedule(sim, controller, robot.controller_model, forces, 0.0,
-                                 'early_single', interval=interval)
+                                 'early_single', interval=interval, phase_offset=phase_offset)
     finally:
         sim.close()
 
@@ -99,6 +99,12 @@ def test_a_schedule_pushes_at_its_phase_every_interval_until_a_fall(robot):
     assert felled.push_times[1] < felled.fall_time < felled.push_times[1] + 2.0
 
 
+def test_a_phase_offset_moves_each_scheduled_push_by_itself(robot):
+    calm = schedule(robot, (0.0, 0.0), interval=2.0)
+    later = schedule(robot, (0.0, 0.0), interval=2.0, phase_offset=0.03)
+    assert np.allclose(np.array(later.push_times) - calm.push_times, 0.03, atol=1e-9)
+
+
 def test_bad_trials_are_rejected():
     with pytest.raises(ConfigError):
         push_start(walk_in_place_reference(), 'mid_air')
@@ -110,6 +116,9 @@ def test_bad_trials_are_rejected():
         run_push_schedule(None, None, None, (80.0, math.nan), 0.0, 'double')
     with pytest.raises(ConfigError):
         run_push_schedule(None, None, None, (80.0,), 0.0, 'double', interval=1.0)
+    for offset in (0.06, -0.06, math.nan):
+        with pytest.raises(ConfigError):
+            run_push_schedule(None, None, None, (80.0,), 0.0, 'double', phase_offset=offset)
 
 
 def graph_defaults(prefix: str) -> dict:
