@@ -217,13 +217,14 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
     for force in forces:
         runner.run(max(due - SCHEDULE_LOOKAHEAD - backend.time, 0.0), on_cycle=on_cycle)
         plan = source.reference if isinstance(source, AdjustedWalk) else reference
-        start = push_start(plan, phase, after=max(due, backend.time + 0.1)) + phase_offset
+        in_phase = push_start(plan, phase, after=max(due, backend.time + 0.1))
+        start = in_phase + phase_offset
         runner.push(ExternalPush(force=(force * math.cos(direction),
                                         force * math.sin(direction), 0.0),
                                  duration=PUSH_DURATION, start_time=start))
         pushed.append(force)
         times.append(start)
-        due = start + interval
+        due = in_phase + interval  # the offset moves each push, not the schedule
         log = runner.run(due + PUSH_DURATION - SCHEDULE_LOOKAHEAD - backend.time,
                          on_cycle=on_cycle)
         if log.fallen:

@@ -68,14 +68,14 @@ def test_push_starts_in_its_phase(phase):
         assert support == SUPPORT_RIGHT and delay == pytest.approx(0.075)
 
 
-def schedule(robot, forces, interval=3.0, phase_offset=0.0):
+def schedule(robot, forces, interval=3.0, phase_offset=0.0, phase='early_single'):
     sim = PyBulletBackend(robot, PyBulletConfig(leg_kp=2000.0))
     try:
         controller = WalkingController(WalkingControllerParams(
             robot=robot.controller_model, balance='stabilizer', swing_target='planned',
             swing_smoothing_time_constant=RECOVERY_SWING_LAG))
         return run_push_schedule(sim, controller, robot.controller_model, forces, 0.0,
-                                 'early_single', interval=interval, phase_offset=phase_offset)
+                                 phase, interval=interval, phase_offset=phase_offset)
     finally:
         sim.close()
 
@@ -99,10 +99,14 @@ def test_a_schedule_pushes_at_its_phase_every_interval_until_a_fall(robot):
     assert felled.push_times[1] < felled.fall_time < felled.push_times[1] + 2.0
 
 
-def test_a_phase_offset_moves_each_scheduled_push_by_itself(robot):
-    calm = schedule(robot, (0.0, 0.0), interval=2.0)
-    later = schedule(robot, (0.0, 0.0), interval=2.0, phase_offset=0.03)
-    assert np.allclose(np.array(later.push_times) - calm.push_times, 0.03, atol=1e-9)
+@pytest.mark.parametrize('offset', [0.03, -0.03])
+def test_a_phase_offset_moves_each_scheduled_push_by_itself(robot, offset):
+    # double supports begin every 0.4 s: with an interval of five steps a push's due time falls
+    # on the start of one, where an offset carried into the schedule would move the next push
+    # by a whole step
+    calm = schedule(robot, (0.0, 0.0, 0.0), interval=2.0, phase='double')
+    moved = schedule(robot, (0.0, 0.0, 0.0), interval=2.0, phase_offset=offset, phase='double')
+    assert np.allclose(np.array(moved.push_times) - calm.push_times, offset, atol=1e-9)
 
 
 def test_bad_trials_are_rejected():
