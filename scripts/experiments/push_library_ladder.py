@@ -106,7 +106,7 @@ def main() -> None:
     phases = args.phases.split(',')
     forces = [float(f) for f in args.forces.split(',')]
     offsets = [float(o) for o in args.offsets.split(',')]
-    if len(offsets) > 1 and not args.schedule:
+    if offsets != [0.0] and not args.schedule:  # fresh walks take no offset
         raise SystemExit('--offsets needs --schedule')
     robot = coman_like()
     params = WalkingControllerParams(robot=robot.controller_model,

@@ -87,4 +87,3 @@ class SwingRetarget:
             self._expected[side] = (t + dt, planned_after[side].copy())
             offsets[side] = offset
         return offsets
-
