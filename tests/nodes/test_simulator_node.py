@@ -228,6 +228,30 @@ def seconds(stamp):
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+def test_the_first_readings_after_a_reset_are_measured_on_the_standing_robot(sim):
+    """PyBullet's force sensors hold the last physics step: a reset that published at once sent
+    the fallen robot's foot forces with the standing pose (both feet unloaded, 8 N each)."""
+    assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) >= 5, timeout=15)
+    push = Push.Request()
+    push.force.x, push.duration = 400.0, 0.2
+    assert call(sim, Push, 'push', push).success
+    assert sim['odom'].wait_for(sim['executor'], lambda m: m[-1].pose.pose.position.z < 0.3,
+                                timeout=15)  # lying
+    response = call(sim, Trigger, 'simulator/reset', Trigger.Request())
+    assert response.success
+    t_reset = float(response.message.rsplit('t=', 1)[1].split(' s')[0])
+
+    def first_after_reset(messages):
+        return next((m for m in messages if abs(seconds(m.header.stamp) - t_reset) < 1e-3),
+                    None)
+    assert spin_until(sim['executor'], lambda: all(
+        first_after_reset(sim[side].messages) for side in ('left', 'right')), 10)
+    normal = [first_after_reset(sim[side].messages).wrench.force.z
+              for side in ('left', 'right')]
+    weight = 31.0 * 9.81
+    assert min(normal) > 0.25 * weight and 0.7 * weight < sum(normal) < 1.8 * weight
+
+
 def test_the_robot_can_start_standing_on_paper_tiles(ros_context, executor):
     node = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
         Parameter('real_time_factor', value=5.0), Parameter('terrain.kind', value=1),

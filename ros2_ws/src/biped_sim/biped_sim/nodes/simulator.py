@@ -484,9 +484,14 @@ class SimulatorNode(Node):
         return response
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response):
-        self._time_offset += self._readings.time + self._period
+        # the clock moves on by one period, spent setting the robot down: PyBullet's force
+        # sensors read the last physics step, so without one the first readings after a reset
+        # would carry the fallen robot's foot forces (contact and ZMP of a body lying down)
+        self._time_offset += self._readings.time
         try:
-            self._readings = self._reset_robot()
+            self._reset_robot()
+            self._readings = self._backend.step(self._setpoints, self._substeps)
+            self._previous_setpoints = self._setpoints.copy()
         except (BipedSimError, ValueError) as error:
             response.success, response.message = False, f'reset failed: {error}'
             self.get_logger().error(response.message)
