@@ -443,6 +443,61 @@ def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk
     assert stands_on_both_feet(g)
 
 
+@pytest.mark.parametrize('walk_loop', [{'reference_hung_timeout': 60.0}], indirect=True)
+def test_a_reset_while_a_period_waits_for_its_reference_sends_the_measured_soles(walk_loop):
+    """The reference generator restarts with the reset and stands its references only where
+    sole_poses put the feet, which a cycle sends: a period waiting for that reference waited
+    until reference_hung_timeout (and a lockstep simulator with it) before the first soles."""
+    from biped_msgs.msg import WalkingState
+    from biped_msgs.srv import Push
+    from std_srvs.srv import Trigger
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    states = g['client'].create_publisher(WalkingState, 'walking_state', 10)
+    assert wait_for_subscribers(g['executor'], states, timeout=15)
+    states.publish(WalkingState(epoch=0))
+    push = Push.Request()
+    push.force.x, push.duration = 400.0, 0.2
+    assert call(g, Push, 'push', push).success
+    play_references(g, window_of, clock_time(g) + 1.5)
+    assert g['odom'].messages[-1].pose.pose.position.z < 0.3  # fallen
+    # from now the test is a live reference generator that is late: it is waited for
+    token = LivelinessToken(g['client'], 'reference_trajectory')  # noqa: F841 - kept alive
+    response = call(g, Trigger, 'simulator/reset', Trigger.Request())
+    assert response.success
+    t_reset = float(response.message.rsplit('t=', 1)[1].split(' s')[0])
+    count = len(g['soles'].messages)
+    states.publish(WalkingState(epoch=1))  # and no reference from now on
+
+    def after_reset(messages):
+        return [m for m in messages[count:] if seconds(m.header.stamp) >= t_reset - 1e-6]
+    assert g['soles'].wait_for(g['executor'], lambda m: after_reset(m), timeout=10)
+    soles = after_reset(g['soles'].messages)[0].poses
+    assert abs(soles[0].position.x) < 0.03 and abs(soles[1].position.x) < 0.03
+    assert soles[0].position.y > 0.03 and soles[1].position.y < -0.03  # the start pose
+    assert abs(soles[0].position.z) < 0.01 and abs(soles[1].position.z) < 0.01
+    assert spin_until(g['executor'], lambda: g['rosout'].has('epoch 1', 'restarted from the '
+                                                             'sensors'), 5)
+
+
+def test_a_period_waiting_for_a_live_generator_sends_its_soles_again(walk_loop):
+    """A reference generator that restarted (a reset) subscribes to sole_poses anew and stands
+    only where they put the feet: the controller waiting for it must not wait for a cycle."""
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = walk_loop
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    token = LivelinessToken(g['client'], 'reference_trajectory')  # noqa: F841 - kept alive
+    spin_until(g['executor'], lambda: False, 0.2)
+    last = seconds(g['soles'].messages[-1].header.stamp)
+    count = len(g['soles'].messages)
+    assert g['soles'].wait_for(g['executor'], lambda m: len(m) >= count + 2, timeout=5)
+    assert all(seconds(m.header.stamp) == last for m in g['soles'].messages[count:])
+    assert clock_time(g) <= last + 0.02 + 1e-9  # the lockstep clock waits meanwhile
+
+
 def test_a_lost_simulator_is_reported(walk_loop):
     g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)

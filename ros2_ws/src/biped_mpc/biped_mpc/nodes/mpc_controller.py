@@ -82,6 +82,7 @@ from biped_planner.node_support.reference_messages import window_from_reference_
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.node_support.walking_state_checks import walking_state_problem
 from biped_planner.parameter_fields import field_specs
+from biped_planner.rotations import tilt_of_quaternion
 
 MPC_FIELDS = field_specs(MpcParams)
 SENSOR_POLL_PERIOD = 0.0005  # s of wall time between takes while a sensor is not in yet
@@ -314,13 +315,43 @@ class MpcControllerNode(Node):
             self._pending = None
             self._wait_timer.cancel()
             self._control_cycle()
-        elif not self._started:
+        elif not self._started or self._restarted_while_waiting():
             self._publish_standing_soles()
 
+    def _restarted_while_waiting(self) -> bool:
+        """A reset of the robot while a period waits for its reference: the reference
+        generator restarted too and stands its references only where sole_poses put the feet,
+        which a cycle sends. Restart from the sensors now (once the robot stands still), so the
+        soles go out instead of both waiting for reference_hung_timeout (the simulator's
+        lockstep waited 1 s). :return: whether the controller stands after a reset with no
+        reference yet (the supervisor dropped its reference)."""
+        self._take_epoch()
+        if self._epoch_pending is not None:
+            try:
+                feedback = self._intake.feedback(self._params.pelvis_source,
+                                                 self.get_parameter('contact_force').value)
+            except (KeyError, BipedMpcError, ValueError):
+                return False  # the cycle reports it
+            if not self._intake.stale(self._sensor_topics, self._pending,
+                                      self.get_parameter('sensor_timeout').value):
+                self._check_epoch(self._pending, feedback)
+        return self._epoch_pending is None and self._supervisor.reference is None
+
+    def _resend_soles(self) -> None:
+        """While a period waits for a live reference generator: the soles again. One that
+        restarted (a reset) after this controller had restarted subscribes to sole_poses anew
+        and would otherwise wait for the next cycle, which waits for it. Nothing while a reset
+        is not applied yet: the last soles are then the fallen robot's."""
+        if not self._started or self._restarted_while_waiting():
+            self._publish_standing_soles()
+        elif self._epoch_pending is None and self._last_soles is not None:
+            self._soles_pub.publish(self._last_soles)
+
     def _publish_standing_soles(self) -> None:
-        """Before the first cycle: the measured soles of the pending period, where the
-        reference generator stands its first references. Taken from odom instead, they would
-        depend on which message came first, and a run on tiles would start differently."""
+        """Before the first cycle (and after a reset): the measured soles of the pending
+        period, where the reference generator stands its first references. Taken from odom
+        instead, they would depend on which message came first, and a run on tiles would start
+        differently."""
         try:
             feedback = self._intake.feedback(self._params.pelvis_source,
                                              self.get_parameter('contact_force').value)
@@ -343,6 +374,7 @@ class MpcControllerNode(Node):
                 f'period t={self._pending:.3f} s waits for reference_trajectory: the reference '
                 f'generator is alive but late ({since:.1f} s since its last)',
                 throttle_duration_sec=2.0)
+            self._resend_soles()
             return  # the timer fires again in reference_wait
         self._wait_timer.cancel()
         self._try_cycle(force=True)
@@ -517,8 +549,16 @@ class MpcControllerNode(Node):
         walking_state with another epoch made the controller restart mid-walk and the robot
         fall (bad-input suite, 'epoch + 1 while walking')."""
         self._take_epoch()
-        if self._epoch_pending is None or self._stepping or \
-                not feedback.standing_still(STILL_TILT, STILL_SPEED):
+        if self._epoch_pending is None or self._stepping:
+            return
+        if not feedback.standing_still(STILL_TILT, STILL_SPEED):
+            speed = feedback.pelvis_linear_velocity
+            self.get_logger().info(
+                f'epoch {self._epoch_pending} waits for the robot to stand still at t={t:.2f} s: '
+                f'contacts {feedback.contacts}, tilt '
+                f'{math.degrees(tilt_of_quaternion(feedback.pelvis_orientation)):.1f} deg, speed '
+                f'{"unknown" if speed is None else f"{np.linalg.norm(speed):.2f} m/s"}',
+                throttle_duration_sec=1.0)
             return
         epoch, self._epoch_pending = self._epoch_pending, None
         self._epoch = epoch
