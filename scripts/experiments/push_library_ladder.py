@@ -14,7 +14,7 @@ push_trial.HUMANOID_STEP_LIMITS).
 
 Usage: .venv/bin/python scripts/experiments/push_library_ladder.py [--adjustment off]
            [--gait forward] [--directions 0,90] [--phases early_single,double] [--forces 80,110,140]
-           [--schedule [--offsets=-0.01,0,0.01]] [qp.offset_weight=100.0 ...]
+           [--schedule [--offsets=-0.01,0,0.01] [--grounded]] [qp.offset_weight=100.0 ...]
 """
 import argparse
 import ast
@@ -51,9 +51,10 @@ def overrides(settings) -> dict:
 
 
 def cell(args, robot, params, adjuster, limits, forces, direction, phase,
-         offset: float = 0.0) -> float:
+         offset: float = 0.0) -> tuple:
     """The largest force of the ladder walked through at one direction and phase (N), the
-    scheduled pushes started `offset` s later in their phase."""
+    scheduled pushes started `offset` s later in their phase, and (schedule only, else the
+    same) the largest walked through without leaving the ground (push_trial.MAX_FLIGHT)."""
     def simulator():
         # a fresh simulator per trial: PyBullet's contact state carries over a reset, and a
         # cell's figure depended on the trials run before it
@@ -62,10 +63,11 @@ def cell(args, robot, params, adjuster, limits, forces, direction, phase,
     if args.schedule:
         backend = simulator()
         try:
-            return push_trial.run_push_schedule(
+            result = push_trial.run_push_schedule(
                 backend, WalkingController(params), robot.controller_model, forces,
                 math.radians(direction), phase, adjuster, limits,
-                step_length=GAITS[args.gait], phase_offset=offset).largest_withstood
+                step_length=GAITS[args.gait], phase_offset=offset)
+            return result.largest_withstood, result.largest_grounded()
         finally:
             backend.close()
     best = 0.0
@@ -80,7 +82,7 @@ def cell(args, robot, params, adjuster, limits, forces, direction, phase,
         if trial.fallen:
             break
         best = force
-    return best
+    return best, best
 
 
 def main() -> None:
@@ -99,6 +101,10 @@ def main() -> None:
                         help="with --schedule: s added to the pushes' start in their phase, one "
                              "walk each, a cell the median (--offsets=-0.015,0,0.015: a cell's "
                              "figure changes with the instant within its phase)")
+    parser.add_argument('--grounded', action='store_true',
+                        help='with --schedule: beside each cell, in brackets, the largest push '
+                             'walked through without leaving the ground for more than '
+                             f'{push_trial.MAX_FLIGHT} s (a bounce is no recovery)')
     parser.add_argument('settings', nargs='*', help='GROUP.NAME=VALUE')
     args = parser.parse_args()
     settings = overrides(args.settings)
@@ -108,6 +114,8 @@ def main() -> None:
     offsets = [float(o) for o in args.offsets.split(',')]
     if offsets != [0.0] and not args.schedule:  # fresh walks take no offset
         raise SystemExit('--offsets needs --schedule')
+    if args.grounded and not args.schedule:
+        raise SystemExit('--grounded needs --schedule')
     robot = coman_like()
     params = WalkingControllerParams(robot=robot.controller_model,
                                      **{'model': 'three_mass', 'balance': 'stabilizer',
@@ -124,19 +132,25 @@ def main() -> None:
           f'{args.settings or "default"}: largest push walked through (N)\n')
     print('| direction | ' + ' | '.join(phases) + ' |')
     print('|---|' + '---|' * len(phases))
-    withstood = []
+    withstood, grounded = [], []
     for direction in directions:
-        row = []
+        row, row_grounded = [], []
         for phase in phases:
-            row.append(statistics.median(
-                cell(args, robot, params, adjuster, limits, forces, direction, phase, offset)
-                for offset in offsets))
+            figures = [cell(args, robot, params, adjuster, limits, forces, direction, phase,
+                            offset) for offset in offsets]
+            row.append(statistics.median(f[0] for f in figures))
+            row_grounded.append(statistics.median(f[1] for f in figures))
         withstood += row
-        print(f'| {direction:.0f} deg | ' + ' | '.join(f'{f:.0f}' for f in row) + ' |',
-              flush=True)
+        grounded += row_grounded
+        print(f'| {direction:.0f} deg | ' + ' | '.join(
+            f'{f:.0f} ({g:.0f})' if args.grounded else f'{f:.0f}'
+            for f, g in zip(row, row_grounded)) + ' |', flush=True)
     print(f'\nminimum {min(withstood):.0f} N, sum {sum(withstood):.0f} N over '
           f'{len(withstood)} cells, {sum(f < 150.0 for f in withstood)} below 150 N; '
           f'{time.monotonic() - wall:.0f} s wall')
+    if args.grounded:
+        print(f'on the ground (in brackets): minimum {min(grounded):.0f} N, sum '
+              f'{sum(grounded):.0f} N, {sum(f < 150.0 for f in grounded)} below 150 N')
 
 
 if __name__ == '__main__':

@@ -53,6 +53,11 @@ SCHEDULE_INTERVAL = 3.0
 SCHEDULE_LOOKAHEAD = 1.0  # s: a push is placed from the plan this long before it
 # s: the largest shift of a scheduled push inside its phase (run_push_schedule)
 MAX_PHASE_OFFSET = 0.05
+# s: the longest time with neither foot on the ground a push may cause and count as walked
+# through on the ground (PushScheduleResult.largest_grounded). Unpushed walks touch at every
+# 20 ms cycle; pushes walked through threw the robot 1-9 cm up for 40-300 ms. One cycle is
+# allowed: a touchdown can flicker across the contact threshold.
+MAX_FLIGHT = 0.02
 # phase name: (support of the phase, push start after the phase start (s))
 PHASES = {
     'early_single': (SUPPORT_RIGHT, 0.25 * TIMING.single_support),
@@ -109,6 +114,8 @@ class PushScheduleResult:
     :param largest_withstood: the largest force walked through before a fall (N), 0 for none
     :param revisions: plan revisions the step adjuster made (0 without it)
     :param footsteps: the plan's footsteps at the end, as the adjuster left them
+    :param flights: per push, the longest time with neither foot on the ground from its start
+        until the next push (or the fall) (s)
     """
 
     forces: tuple
@@ -117,6 +124,19 @@ class PushScheduleResult:
     largest_withstood: float
     revisions: int
     footsteps: tuple = ()
+    flights: tuple = ()
+
+    def largest_grounded(self, max_flight: float = MAX_FLIGHT) -> float:
+        """The largest force walked through, with a foot on the ground, before the first fall
+        or the first push that threw the robot off the ground for longer than max_flight (s),
+        0 for none: the stricter reading of the schedule, where a bounce is no recovery."""
+        best = 0.0
+        for k, (force, flight) in enumerate(zip(self.forces, self.flights)):
+            fell = k == len(self.forces) - 1 and math.isfinite(self.fall_time)
+            if fell or flight > max_flight + 1e-9:
+                break
+            best = max(best, force)
+        return best
 
 
 def walk_reference(step_length: float = 0.0, n_steps: int = 16) -> WalkingReference:
@@ -212,7 +232,7 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
         source, on_cycle = adjusted_source(reference, robot, adjuster, step_limits)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
-    pushed, times, withstood = [], [], 0.0
+    pushed, times, flights, withstood = [], [], [], 0.0
     due = T_START + SCHEDULE_FIRST_PUSH
     for force in forces:
         runner.run(max(due - SCHEDULE_LOOKAHEAD - backend.time, 0.0), on_cycle=on_cycle)
@@ -227,12 +247,14 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
         due = in_phase + interval  # the offset moves each push, not the schedule
         log = runner.run(due + PUSH_DURATION - SCHEDULE_LOOKAHEAD - backend.time,
                          on_cycle=on_cycle)
+        flights.append(log.longest_flight(start))
         if log.fallen:
             return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
-                                      withstood, _revisions(source), _footsteps(source))
+                                      withstood, _revisions(source), _footsteps(source),
+                                      tuple(flights))
         withstood = max(withstood, force)
     return PushScheduleResult(tuple(pushed), tuple(times), math.nan, withstood,
-                              _revisions(source), _footsteps(source))
+                              _revisions(source), _footsteps(source), tuple(flights))
 
 
 def _revisions(source) -> int:

@@ -91,6 +91,21 @@ class RunLog:
         x, y = self.base_orientation[:, 0], self.base_orientation[:, 1]
         return np.arccos(np.clip(1.0 - 2.0 * (x * x + y * y), -1.0, 1.0))
 
+    def longest_flight(self, t_from: float = -math.inf, t_to: float = math.inf) -> float:
+        """The longest time with neither foot on the ground, from t_from to t_to (s): cycles
+        in a row without a contact, times the cycle period (a walk has no flight phase).
+
+        :return: 0 when a foot touches at every cycle of the interval
+        """
+        inside = (self.t >= t_from - 1e-9) & (self.t < t_to - 1e-9)
+        airborne = inside & ~self.contacts.any(axis=1)
+        longest = run = 0
+        for flying in airborne:
+            run = run + 1 if flying else 0
+            longest = max(longest, run)
+        period = float(np.median(np.diff(self.t))) if self.t.size > 1 else 0.0
+        return longest * period
+
     def zmp_inside_support(self, margin: float = 0.0) -> np.ndarray:
         """Whether the measured ZMP is inside the real support polygon at each cycle.
 

@@ -175,6 +175,18 @@ def test_zmp_inside_support_against_hand_made_cases():
     assert log.tilt.max() == 0.0
 
 
+def test_the_longest_flight_counts_cycles_in_a_row_without_a_foot_on_the_ground():
+    log = RunLog.empty(10)
+    log.t[:] = np.arange(10) * 0.02
+    on = [True, False, False, True, False, False, False, True, False, True]  # a foot down
+    log.contacts[:, 1] = on
+    assert log.longest_flight() == pytest.approx(0.06)      # cycles 4-6
+    assert log.longest_flight(0.0, 0.08) == pytest.approx(0.04)  # cycles 1-2
+    assert log.longest_flight(0.14) == pytest.approx(0.02)  # cycle 8
+    log.contacts[:, 0] = True
+    assert log.longest_flight() == 0.0
+
+
 def test_setpoints_are_sent_as_a_ramp_over_the_period(robot):
     backend = ModelPlantBackend(robot)
     controller = WalkingController(WalkingControllerParams(robot=robot.controller_model))

@@ -8,7 +8,7 @@ from biped_mpc.walking_controller import WalkingController, WalkingControllerPar
 from biped_planner.sides import SUPPORT_RIGHT
 from biped_sim.errors import ConfigError
 from biped_sim.push_trial import (HUMANOID_ADJUSTER, HUMANOID_STEP_LIMITS, PHASES, push_start,
-                                  RECOVERY_SWING_LAG,
+                                  PushScheduleResult, RECOVERY_SWING_LAG,
                                   run_push_schedule, run_push_trial, SCHEDULE_FIRST_PUSH,
                                   T_START, TIMING, walk_in_place_reference, walk_reference)
 from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
@@ -93,10 +93,24 @@ def test_a_schedule_pushes_at_its_phase_every_interval_until_a_fall(robot):
     delay = PHASES['early_single'][1]
     assert all(push_start(plan, 'early_single', after=t - delay - 1e-6) == pytest.approx(t)
                for t in times)
+    assert calm.flights == (0.0, 0.0, 0.0)  # a walk has a foot on the ground at every cycle
     # a push no robot withstands ends the schedule: the force before it is the figure
     felled = schedule(robot, (40.0, 2000.0, 40.0), interval=2.0)
     assert felled.forces == (40.0, 2000.0) and felled.largest_withstood == 40.0
     assert felled.push_times[1] < felled.fall_time < felled.push_times[1] + 2.0
+    assert len(felled.flights) == 2 and felled.largest_grounded() == 40.0
+
+
+def test_a_push_that_throws_the_robot_off_the_ground_is_no_grounded_recovery():
+    def result(flights, fall_time=math.nan):
+        forces = (80.0, 110.0, 140.0)[:len(flights)]
+        return PushScheduleResult(forces, (3.0, 6.0, 9.0)[:len(flights)], fall_time,
+                                  max(forces), 0, (), tuple(flights))
+    assert result((0.0, 0.02, 0.0)).largest_grounded() == 140.0  # one cycle: a flicker
+    assert result((0.0, 0.04, 0.0)).largest_grounded() == 80.0
+    assert result((0.06, 0.0, 0.0)).largest_grounded() == 0.0
+    assert result((0.0, 0.04, 0.0)).largest_grounded(max_flight=0.05) == 140.0
+    assert result((0.0, 0.0, 0.0), fall_time=9.5).largest_grounded() == 110.0
 
 
 @pytest.mark.parametrize('offset', [0.03, -0.03])
