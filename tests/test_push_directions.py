@@ -118,3 +118,32 @@ def test_the_planned_landing_comes_from_the_plan_stamped_before_an_adjustment_th
         first = adjustment_records(series, 0.0)['steps'][0]
         assert first['planned_landing'] == (0.0, -0.07)
         assert first['landing'] == (0.0, -0.097)
+
+
+def test_the_longest_flight_after_each_push_comes_from_both_ankles():
+    from biped_tools.scenarios.push_directions import longest_flights
+    times = [round(0.02 * k, 2) for k in range(20)]
+    left = [(t, 100.0) for t in times]
+    right = [(t, 100.0) for t in times]
+    for k in (5, 6, 7):           # after the first push: 60 ms in the air
+        left[k] = (times[k], -8.0)
+        right[k] = (times[k], 10.0)  # below the contact force: not on the ground
+    left[14] = (times[14], -8.0)  # one foot up, the other down: a step, not a flight
+    assert longest_flights((left, right), [0.04, 0.2], 0.4) == pytest.approx([0.06, 0.0])
+    assert longest_flights((left, right), [0.14], 0.4) == pytest.approx([0.02])  # cycle 7
+    assert longest_flights(([], []), [0.04], 0.4) == [0.0]
+
+
+def test_a_push_walked_through_in_the_air_ends_the_grounded_figure():
+    from biped_tools.scenarios.push_directions import largest_grounded
+    pushes = [{'force_n': f, 'longest_flight_s': flight}
+              for f, flight in ((80, 0.0), (110, 0.02), (140, 0.3), (170, 0.0))]
+    assert largest_grounded(pushes, [80, 110, 140, 170]) == 110  # 20 ms: one cycle, a flicker
+    assert largest_grounded(pushes, [80]) == 80  # 110 N felled it
+    assert largest_grounded(pushes, []) == 0.0
+    results = [{'direction_deg': 0, 'phase': 'double', 'adjustment': a,
+                'largest_withstood_n': 170.0, 'largest_grounded_n': 110.0 if a else 80.0}
+               for a in (False, True)]
+    assert '| minimum on the ground | 80 / 110 N' in table(results)
+    del results[0]['largest_grounded_n']  # a table of older results: no such line
+    assert 'on the ground' not in table(results)

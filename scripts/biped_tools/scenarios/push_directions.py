@@ -21,7 +21,7 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from biped_sim.push_trial import RECOVERY_SWING_LAG
+from biped_sim.push_trial import MAX_FLIGHT, RECOVERY_SWING_LAG
 from biped_tools.graph_session import stamp_seconds
 from biped_tools.scenarios import sweep
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
@@ -42,6 +42,8 @@ PHASES = {
     'early_single_left': ('left', 0.25 * TIMING[0]),
 }
 SUPPORT_NAMES = {0: 'left', 1: 'right'}  # WalkingState.SUPPORT_LEFT / SUPPORT_RIGHT
+CONTACT_FORCE = 15.0  # N: an ankle's normal force above this is a foot on the ground (as the
+#                       controller's contact_force; a foot in the air reads its own weight, -8 N)
 # the stabilizer with recovery steps that land on time (biped_sim.push_trial.RECOVERY_SWING_LAG)
 CONTROLLER = ['balance:=stabilizer', 'swing_target:=planned',
               f'swing_smoothing_time_constant:={RECOVERY_SWING_LAG}']
@@ -150,6 +152,45 @@ def outcome(pushes: List[Dict], t_fall: Optional[float]):
     return walked, first_fall
 
 
+def longest_flights(foot_forces, starts: Sequence[float], t_end: float,
+                    contact_force: float = CONTACT_FORCE) -> List[float]:
+    """Per push, the longest time with neither foot on the ground from its start until the
+    next push starts (the last: until t_end), from the ankle F/T series.
+
+    :param foot_forces: (left, right) lists of (sim time, normal force (N)), one per period
+    :param starts: the pushes' start times, in order (s, the series' time base)
+    :return: seconds, 0 where a foot touched at every period
+    """
+    left, right = dict(foot_forces[0]), dict(foot_forces[1])
+    times = sorted(set(left) & set(right))
+    if len(times) < 2:
+        return [0.0] * len(starts)
+    period = float(np.median(np.diff(times)))
+    flights = []
+    for k, start in enumerate(starts):
+        end = starts[k + 1] if k + 1 < len(starts) else t_end
+        longest = run = 0
+        for t in times:
+            if start - 1e-9 <= t < end - 1e-9:
+                up = left[t] <= contact_force and right[t] <= contact_force
+                run = run + 1 if up else 0
+                longest = max(longest, run)
+        flights.append(longest * period)
+    return flights
+
+
+def largest_grounded(pushes: List[Dict], walked: List[float],
+                     max_flight: float = MAX_FLIGHT) -> float:
+    """The largest force walked through with a foot on the ground: the pushes walked through,
+    up to the first that threw the robot into the air for longer than max_flight (s)."""
+    best = 0.0
+    for push, _ in zip(pushes, walked):
+        if push.get('longest_flight_s', 0.0) > max_flight + 1e-9:
+            break
+        best = max(best, push['force_n'])
+    return best
+
+
 def phase_at(states, t: float) -> str:
     """The walking phase and support foot 10 ms into a push at t (a push at a phase's first
     instant meets that phase), from walking_state records (t, phase, step, fallen, reason,
@@ -196,6 +237,7 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
     pushes: List[Dict] = []
     unanswered = None
     with graph_for(trial, timing=TIMING, extra=extra) as session:
+        session.watch_foot_forces()  # a push walked through in the air is reported as such
         progress = Progress(trial)
         sim0 = session.sim_time()
         gait_command(session, trial, gait)
@@ -232,8 +274,11 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
         result = base_result(trial, session, wall0, sim0)
         series = session.series
         adjustments = adjustment_records(series, sim0)
-        for push in pushes:
+        flights = longest_flights(series.foot_forces, [p['at_s'] + sim0 for p in pushes],
+                                  session.sim_time())
+        for push, flight in zip(pushes, flights):
             push['met'] = phase_at(session.series.states, push['at_s'] + sim0)
+            push['longest_flight_s'] = round(flight, 3)
     walked, first_fall = outcome(pushes, result['fall_time_s'])
     result.update({
         'direction_deg': direction_deg, 'phase': phase, 'gait': gait, 'adjustment': adjustment,
@@ -241,6 +286,7 @@ def run(trial: Trial, direction_deg: float, phase: str, gait: str, schedule: Lis
         'adjustments': adjustments['steps'],
         'plan_has_adjusted_landings': adjustments['in_plan'],
         'largest_withstood_n': max(walked) if walked else 0.0,
+        'largest_grounded_n': largest_grounded(pushes, walked),
         'first_fall_force_n': first_fall,
     })
     result['success'] = bool(walked)
@@ -351,6 +397,15 @@ def table(results: List[dict]) -> str:
         minima.append(f'{min(values):.0f}' if values else '-')
     lines.append(f'| minimum | {" / ".join(minima)} N over directions and phases |'
                  + ' |' * (len(phases) - 1))
+    if all('largest_grounded_n' in r for r in results):
+        grounded = []
+        for setting in settings:
+            values = [r['largest_grounded_n'] for r in results
+                      if r['adjustment'] == setting and pushed(r)]
+            grounded.append(f'{min(values):.0f}' if values else '-')
+        lines.append(f'| minimum on the ground | {" / ".join(grounded)} N (no push followed by '
+                     f'more than {MAX_FLIGHT} s with neither foot down) |'
+                     + ' |' * (len(phases) - 1))
     unpushed = sum(not pushed(r) for r in results)
     if unpushed:
         lines.append(f'\n{unpushed} trial(s) made no push (no walk): run them again.')
