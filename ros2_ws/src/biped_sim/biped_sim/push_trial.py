@@ -55,8 +55,8 @@ SCHEDULE_LOOKAHEAD = 1.0  # s: a push is placed from the plan this long before i
 MAX_PHASE_OFFSET = 0.05
 # s: the longest time with neither foot on the ground a push may cause and count as walked
 # through on the ground (PushScheduleResult.largest_grounded). Unpushed walks touch at every
-# 20 ms cycle; pushes walked through threw the robot 1-9 cm up for 40-300 ms. One cycle is
-# allowed: a touchdown can flicker across the contact threshold.
+# 20 ms cycle; pushes walked through lifted the COM 1-9 cm and both feet off for up to 80 ms.
+# One cycle is allowed: a touchdown can flicker across the contact threshold.
 MAX_FLIGHT = 0.02
 # phase name: (support of the phase, push start after the phase start (s))
 PHASES = {
