@@ -407,24 +407,31 @@ def test_a_new_epoch_seen_while_stepping_does_not_restart_the_controller(walk_lo
     assert g['rosout'].has('epoch 1', 'restarted from the sensors')
 
 
-def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk_loop):
+def pushed_over(g):
+    """Stand on the played references in epoch 0, then a 400 N push fells the robot; the
+    walking_state publisher, for the next epoch."""
     from biped_msgs.msg import WalkingState
     from biped_msgs.srv import Push
-    from std_srvs.srv import Trigger
-    g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)
-    params = ReferenceParams(foot_length=0.2, foot_width=0.1)
-    stand = window_of
-    play_references(g, stand, clock_time(g) + 0.3)
-    client = g['client']
-    states = client.create_publisher(WalkingState, 'walking_state', 10)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    states = g['client'].create_publisher(WalkingState, 'walking_state', 10)
     assert wait_for_subscribers(g['executor'], states, timeout=15)
     states.publish(WalkingState(epoch=0))
     push = Push.Request()
     push.force.x, push.duration = 400.0, 0.2
     assert call(g, Push, 'push', push).success
-    play_references(g, stand, clock_time(g) + 1.5)
+    play_references(g, window_of, clock_time(g) + 1.5)
     assert g['odom'].messages[-1].pose.pose.position.z < 0.3  # fallen
+    return states
+
+
+def test_a_new_epoch_restarts_the_controller_from_the_sensors_after_a_reset(walk_loop):
+    from biped_msgs.msg import WalkingState
+    from std_srvs.srv import Trigger
+    g = walk_loop
+    params = ReferenceParams(foot_length=0.2, foot_width=0.1)
+    stand = window_of
+    states = pushed_over(g)
     assert call(g, Trigger, 'simulator/reset', Trigger.Request()).success
     states.publish(WalkingState(epoch=1))
     # no reference comes now: the controller stands on its feet by itself
@@ -449,20 +456,10 @@ def test_a_reset_while_a_period_waits_for_its_reference_sends_the_measured_soles
     sole_poses put the feet, which a cycle sends: a period waiting for that reference waited
     until reference_hung_timeout (and a lockstep simulator with it) before the first soles."""
     from biped_msgs.msg import WalkingState
-    from biped_msgs.srv import Push
     from std_srvs.srv import Trigger
     from biped_planner.node_support.liveliness import LivelinessToken
     g = walk_loop
-    assert g['clock'].wait_for(g['executor'], timeout=15)
-    play_references(g, window_of, clock_time(g) + 0.3)
-    states = g['client'].create_publisher(WalkingState, 'walking_state', 10)
-    assert wait_for_subscribers(g['executor'], states, timeout=15)
-    states.publish(WalkingState(epoch=0))
-    push = Push.Request()
-    push.force.x, push.duration = 400.0, 0.2
-    assert call(g, Push, 'push', push).success
-    play_references(g, window_of, clock_time(g) + 1.5)
-    assert g['odom'].messages[-1].pose.pose.position.z < 0.3  # fallen
+    states = pushed_over(g)
     # from now the test is a live reference generator that is late: it is waited for
     token = LivelinessToken(g['client'], 'reference_trajectory')  # noqa: F841 - kept alive
     response = call(g, Trigger, 'simulator/reset', Trigger.Request())

@@ -390,21 +390,17 @@ def table(results: List[dict]) -> str:
              '|---' * (len(phases) + 1) + '|']
     lines += [f'| {d:.0f} deg | ' + ' | '.join(cell(d, p) for p in phases) + ' |'
               for d in directions]
-    minima = []
-    for setting in settings:
-        values = [r['largest_withstood_n'] for r in results
-                  if r['adjustment'] == setting and pushed(r)]
-        minima.append(f'{min(values):.0f}' if values else '-')
-    lines.append(f'| minimum | {" / ".join(minima)} N over directions and phases |'
+
+    def minima(key: str) -> str:
+        """'off / on' minimum of a result's figure over the trials that pushed."""
+        values = [[r[key] for r in results if r['adjustment'] == setting and pushed(r)]
+                  for setting in settings]
+        return ' / '.join(f'{min(v):.0f}' if v else '-' for v in values)
+    lines.append(f'| minimum | {minima("largest_withstood_n")} N over directions and phases |'
                  + ' |' * (len(phases) - 1))
     if all('largest_grounded_n' in r for r in results):
-        grounded = []
-        for setting in settings:
-            values = [r['largest_grounded_n'] for r in results
-                      if r['adjustment'] == setting and pushed(r)]
-            grounded.append(f'{min(values):.0f}' if values else '-')
-        lines.append(f'| minimum on the ground | {" / ".join(grounded)} N (no push followed by '
-                     f'more than {MAX_FLIGHT} s with neither foot down) |'
+        lines.append(f'| minimum on the ground | {minima("largest_grounded_n")} N (no push '
+                     f'followed by more than {MAX_FLIGHT} s with neither foot down) |'
                      + ' |' * (len(phases) - 1))
     unpushed = sum(not pushed(r) for r in results)
     if unpushed:
