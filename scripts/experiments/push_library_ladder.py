@@ -54,7 +54,7 @@ def cell(args, robot, params, adjuster, limits, forces, direction, phase,
          offset: float = 0.0) -> tuple:
     """The largest force of the ladder walked through at one direction and phase (N), the
     scheduled pushes started `offset` s later in their phase, and (schedule only, else the
-    same) the largest walked through without leaving the ground (push_trial.MAX_FLIGHT)."""
+    same) the largest walked through with a foot loaded (push_trial.MAX_FLIGHT)."""
     def simulator():
         # a fresh simulator per trial: PyBullet's contact state carries over a reset, and a
         # cell's figure depended on the trials run before it
@@ -103,7 +103,7 @@ def main() -> None:
                              "figure changes with the instant within its phase)")
     parser.add_argument('--grounded', action='store_true',
                         help='with --schedule: beside each cell, in brackets, the largest push '
-                             'walked through without leaving the ground for more than '
+                             'walked through with both feet unloaded for no more than '
                              f'{push_trial.MAX_FLIGHT} s (a bounce is no recovery)')
     parser.add_argument('settings', nargs='*', help='GROUP.NAME=VALUE')
     args = parser.parse_args()

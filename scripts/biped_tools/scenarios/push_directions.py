@@ -154,8 +154,8 @@ def outcome(pushes: List[Dict], t_fall: Optional[float]):
 
 def longest_flights(foot_forces, starts: Sequence[float], t_end: float,
                     contact_force: float = CONTACT_FORCE) -> List[float]:
-    """Per push, the longest time with neither foot on the ground from its start until the
-    next push starts (the last: until t_end), from the ankle F/T series.
+    """Per push, the longest time with neither foot loaded (above contact_force) from its start
+    until the next push starts (the last: until t_end), from the ankle F/T series.
 
     :param foot_forces: (left, right) lists of (sim time, normal force (N)), one per period
     :param starts: the pushes' start times, in order (s, the series' time base)
@@ -181,8 +181,8 @@ def longest_flights(foot_forces, starts: Sequence[float], t_end: float,
 
 def largest_grounded(pushes: List[Dict], walked: List[float],
                      max_flight: float = MAX_FLIGHT) -> float:
-    """The largest force walked through with a foot on the ground: the pushes walked through,
-    up to the first that threw the robot into the air for longer than max_flight (s)."""
+    """The largest force walked through with a foot loaded: the pushes walked through, up to
+    the first that left both feet unloaded for longer than max_flight (s)."""
     best = 0.0
     for push, _ in zip(pushes, walked):
         if push.get('longest_flight_s', 0.0) > max_flight + 1e-9:
@@ -400,7 +400,7 @@ def table(results: List[dict]) -> str:
                  + ' |' * (len(phases) - 1))
     if all('largest_grounded_n' in r for r in results):
         lines.append(f'| minimum on the ground | {minima("largest_grounded_n")} N (no push '
-                     f'followed by more than {MAX_FLIGHT} s with neither foot down) |'
+                     f'followed by more than {MAX_FLIGHT} s with neither foot loaded) |'
                      + ' |' * (len(phases) - 1))
     unpushed = sum(not pushed(r) for r in results)
     if unpushed:

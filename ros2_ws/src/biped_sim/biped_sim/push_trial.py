@@ -55,7 +55,7 @@ SCHEDULE_LOOKAHEAD = 1.0  # s: a push is placed from the plan this long before i
 MAX_PHASE_OFFSET = 0.05
 # s: the longest time with neither foot on the ground a push may cause and count as walked
 # through on the ground (PushScheduleResult.largest_grounded). Unpushed walks touch at every
-# 20 ms cycle; pushes walked through lifted the COM 1-9 cm and both feet off for up to 80 ms.
+# 20 ms cycle; pushes walked through left both feet unloaded for up to 80 ms (landing rebounds).
 # One cycle is allowed: a touchdown can flicker across the contact threshold.
 MAX_FLIGHT = 0.02
 # phase name: (support of the phase, push start after the phase start (s))
@@ -114,7 +114,7 @@ class PushScheduleResult:
     :param largest_withstood: the largest force walked through before a fall (N), 0 for none
     :param revisions: plan revisions the step adjuster made (0 without it)
     :param footsteps: the plan's footsteps at the end, as the adjuster left them
-    :param flights: per push, the longest time with neither foot on the ground from its start
+    :param flights: per push, the longest time with neither foot in contact from its start
         until the next push (or the fall) (s)
     """
 
@@ -127,9 +127,9 @@ class PushScheduleResult:
     flights: tuple = ()
 
     def largest_grounded(self, max_flight: float = MAX_FLIGHT) -> float:
-        """The largest force walked through, with a foot on the ground, before the first fall
-        or the first push that threw the robot off the ground for longer than max_flight (s),
-        0 for none: the stricter reading of the schedule, where a bounce is no recovery."""
+        """The largest force walked through, with a foot in contact, before the first fall or
+        the first push that left both feet unloaded for longer than max_flight (s), 0 for none:
+        the stricter reading of the schedule, where a bounce is no recovery."""
         best = 0.0
         for k, (force, flight) in enumerate(zip(self.forces, self.flights)):
             fell = k == len(self.forces) - 1 and math.isfinite(self.fall_time)

@@ -92,8 +92,9 @@ class RunLog:
         return np.arccos(np.clip(1.0 - 2.0 * (x * x + y * y), -1.0, 1.0))
 
     def longest_flight(self, t_from: float = -math.inf, t_to: float = math.inf) -> float:
-        """The longest time with neither foot on the ground, from t_from to t_to (s): cycles
-        in a row without a contact, times the cycle period (a walk has no flight phase).
+        """The longest time with neither foot in contact (the contact flags: its ground force
+        above the threshold), from t_from to t_to (s): cycles in a row without a contact, times
+        the cycle period (a walk always has a foot loaded; a hop or a landing's rebound not).
 
         :return: 0 when a foot touches at every cycle of the interval
         """
