@@ -328,12 +328,10 @@ class MpcControllerNode(Node):
         self._take_epoch()
         if self._epoch_pending is not None:
             try:
-                feedback = self._intake.feedback(self._params.pelvis_source,
-                                                 self.get_parameter('contact_force').value)
+                feedback = self._feedback()
             except (KeyError, BipedMpcError, ValueError):
                 return False  # the cycle reports it
-            if not self._intake.stale(self._sensor_topics, self._pending,
-                                      self.get_parameter('sensor_timeout').value):
+            if not self._stale_sensors(self._pending):
                 self._check_epoch(self._pending, feedback)
         return self._epoch_pending is None and self._supervisor.reference is None
 
@@ -353,9 +351,7 @@ class MpcControllerNode(Node):
         instead, they would depend on which message came first, and a run on tiles would start
         differently."""
         try:
-            feedback = self._intake.feedback(self._params.pelvis_source,
-                                             self.get_parameter('contact_force').value)
-            soles = self._controller.standing_soles(feedback)
+            soles = self._controller.standing_soles(self._feedback())
         except (KeyError, BipedMpcError, ValueError):
             return  # a sensor without a valid message yet: the cycle reports it
         self._soles_pub.publish(sole_poses_msg(
@@ -400,21 +396,33 @@ class MpcControllerNode(Node):
             reader.destroy()
         super().destroy_node()
 
+    def _feedback(self) -> ControllerFeedback:
+        """The newest valid sensor messages as the controller's feedback.
+
+        :raises KeyError: naming a sensor without a valid message yet
+        :raises BipedMpcError, ValueError: for sensor data the controller cannot use
+        """
+        return self._intake.feedback(self._params.pelvis_source,
+                                     self.get_parameter('contact_force').value)
+
+    def _stale_sensors(self, t: float) -> str:
+        """Why the sensors cannot be trusted at t (the stale ones), '' when they can."""
+        return self._intake.stale(self._sensor_topics, t,
+                                  self.get_parameter('sensor_timeout').value)
+
     # --- control cycle ----------------------------------------------------------------------
     def _control_cycle(self) -> None:
         t = stamp_seconds_of(self._last_cycle)
         stamp = Time(sec=self._last_cycle[0], nanosec=self._last_cycle[1])
         try:
-            feedback = self._intake.feedback(self._params.pelvis_source,
-                                             self.get_parameter('contact_force').value)
+            feedback = self._feedback()
         except KeyError as error:
             self._hold_joints(stamp, f'no valid {error.args[0]} yet')
             return
         except (BipedMpcError, ValueError) as error:
             self._hold_joints(stamp, f'sensor data unusable: {error}')
             return
-        stale = self._intake.stale(self._sensor_topics, t,
-                                   self.get_parameter('sensor_timeout').value)
+        stale = self._stale_sensors(t)
         if not stale:
             self._publish_balance(t, stamp, feedback)
         if not stale and self._started:
