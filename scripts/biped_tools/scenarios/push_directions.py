@@ -22,6 +22,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from biped_sim.push_trial import MAX_FLIGHT, RECOVERY_SWING_LAG
+from biped_sim.run_log import longest_run
 from biped_tools.graph_session import stamp_seconds
 from biped_tools.scenarios import sweep
 from biped_tools.scenarios.trial import (base_result, drive, graph_for, Progress,
@@ -162,21 +163,14 @@ def longest_flights(foot_forces, starts: Sequence[float], t_end: float,
     :return: seconds, 0 where a foot touched at every period
     """
     left, right = dict(foot_forces[0]), dict(foot_forces[1])
-    times = sorted(set(left) & set(right))
-    if len(times) < 2:
+    times = np.array(sorted(set(left) & set(right)))
+    if times.size < 2:
         return [0.0] * len(starts)
     period = float(np.median(np.diff(times)))
-    flights = []
-    for k, start in enumerate(starts):
-        end = starts[k + 1] if k + 1 < len(starts) else t_end
-        longest = run = 0
-        for t in times:
-            if start - 1e-9 <= t < end - 1e-9:
-                up = left[t] <= contact_force and right[t] <= contact_force
-                run = run + 1 if up else 0
-                longest = max(longest, run)
-        flights.append(longest * period)
-    return flights
+    unloaded = np.array([left[t] <= contact_force and right[t] <= contact_force for t in times])
+    ends = list(starts[1:]) + [t_end]
+    return [longest_run(unloaded & (times >= start - 1e-9) & (times < end - 1e-9)) * period
+            for start, end in zip(starts, ends)]
 
 
 def largest_grounded(pushes: List[Dict], walked: List[float],

@@ -99,13 +99,8 @@ class RunLog:
         :return: 0 when a foot touches at every cycle of the interval
         """
         inside = (self.t >= t_from - 1e-9) & (self.t < t_to - 1e-9)
-        airborne = inside & ~self.contacts.any(axis=1)
-        longest = run = 0
-        for flying in airborne:
-            run = run + 1 if flying else 0
-            longest = max(longest, run)
         period = float(np.median(np.diff(self.t))) if self.t.size > 1 else 0.0
-        return longest * period
+        return longest_run(inside & ~self.contacts.any(axis=1)) * period
 
     def zmp_inside_support(self, margin: float = 0.0) -> np.ndarray:
         """Whether the measured ZMP is inside the real support polygon at each cycle.
@@ -127,6 +122,15 @@ class RunLog:
                        if self.contacts[k, side]]
             inside[k] = project_into_polygon(zmp, np.vstack(corners))[1]
         return inside
+
+
+def longest_run(flags) -> int:
+    """The most consecutive True values in a sequence of flags (0 for none)."""
+    longest = run = 0
+    for flag in flags:
+        run = run + 1 if flag else 0
+        longest = max(longest, run)
+    return longest
 
 
 def trimmed(log, count: int):
