@@ -141,29 +141,41 @@ class ContactGravityCompensation:
         :param contacts: (left, right) contact flags.
         :return: (forces (2,) N, points (2, 3) m) for left and right.
         """
+        soles = [[float(v) for v in sole] for sole in soles]
+        loads = self._vertical_loads(float(com_xy[0]), float(com_xy[1]), soles, sole_yaws,
+                                     contacts)
+        forces = np.array([load[0] for load in loads])
+        points = np.array([[x, y, sole[2]] for (_, x, y), sole in zip(loads, soles)],
+                          dtype=float)
+        return forces, points
+
+    def _vertical_loads(self, cx: float, cy: float, soles, sole_yaws, contacts) -> tuple:
+        """split_weight on Python floats (it runs at every physics step).
+
+        :param soles: (left, right) sole centres as lists of floats (m).
+        :return: ((f, x, y) of the left foot, (f, x, y) of the right foot).
+        """
         left, right = soles
-        cx, cy = float(com_xy[0]), float(com_xy[1])
-        forces = np.zeros(2)
-        points = np.array([left, right], dtype=float)
         if contacts[0] and contacts[1]:
             ax, ay = left[0] - right[0], left[1] - right[1]
             t = left_share((cx, cy), left, right)
             offset_x = cx - (right[0] + t * ax)
             offset_y = cy - (right[1] + t * ay)
-            forces[0], forces[1] = t * self._weight, (1.0 - t) * self._weight
-            for i in (0, 1):
-                dx, dy = sole_rectangle_clip(offset_x, offset_y, sole_yaws[i],
-                                             self._half_length, self._half_width)
-                points[i, 0] += dx
-                points[i, 1] += dy
-        elif contacts[0] or contacts[1]:
+            loads = []
+            for sole, yaw, force in ((left, sole_yaws[0], t * self._weight),
+                                     (right, sole_yaws[1], (1.0 - t) * self._weight)):
+                dx, dy = sole_rectangle_clip(offset_x, offset_y, yaw, self._half_length,
+                                             self._half_width)
+                loads.append((force, sole[0] + dx, sole[1] + dy))
+            return tuple(loads)
+        loads = [(0.0, left[0], left[1]), (0.0, right[0], right[1])]
+        if contacts[0] or contacts[1]:
             i = 0 if contacts[0] else 1
-            forces[i] = self._weight
-            dx, dy = sole_rectangle_clip(cx - points[i, 0], cy - points[i, 1], sole_yaws[i],
-                                         self._half_length, self._half_width)
-            points[i, 0] += dx
-            points[i, 1] += dy
-        return forces, points
+            x, y = loads[i][1], loads[i][2]
+            dx, dy = sole_rectangle_clip(cx - x, cy - y, sole_yaws[i], self._half_length,
+                                         self._half_width)
+            loads[i] = (self._weight, x + dx, y + dy)
+        return tuple(loads)
 
     def torques(self, base_position, base_quaternion, joint_positions, contacts) -> np.ndarray:
         """Return the gravity-compensation torques of the actuated joints.
@@ -183,20 +195,19 @@ class ContactGravityCompensation:
             soles, yaws = [], []
             for frame_id in self._sole_ids:
                 placement = pin.updateFramePlacement(model, data, frame_id)
-                soles.append(placement.translation.copy())
-                rotation = placement.rotation
-                yaws.append(yaw_of_matrix(rotation))
-            forces, points = self.split_weight(data.com[0], soles, yaws, contacts)
+                soles.append(placement.translation.tolist())
+                yaws.append(yaw_of_matrix(placement.rotation))
+            cx, cy, _ = data.com[0].tolist()
+            loads = self._vertical_loads(cx, cy, soles, yaws, contacts)
             wrench = np.zeros(6)
-            for i, frame_id in enumerate(self._sole_ids):
-                f = forces[i]
+            for (f, x, y), sole, frame_id in zip(loads, soles, self._sole_ids):
                 if f == 0.0:
                     continue
                 jacobian = pin.getFrameJacobian(model, data, frame_id, self._world_aligned)
-                # Wrench of a vertical force f at the point, about the sole centre:
+                # Wrench of a vertical force f at (x, y), about the sole centre:
                 # (0, 0, f) and lever x (0, 0, f) = (lever_y f, -lever_x f, 0).
                 wrench[2] = f
-                wrench[3] = (points[i, 1] - soles[i][1]) * f
-                wrench[4] = -(points[i, 0] - soles[i][0]) * f
+                wrench[3] = (y - sole[1]) * f
+                wrench[4] = -(x - sole[0]) * f
                 generalized -= wrench @ jacobian
         return generalized[self._v_index]

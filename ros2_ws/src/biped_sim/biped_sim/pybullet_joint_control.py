@@ -14,6 +14,7 @@ stays stable: Kp dt^2 / M_jj <= gain_cap and Kd dt / M_jj <= gain_cap (omega dt 
 every joint uses PyBullet's implicit position motors, a robust fallback.
 """
 
+import operator
 from typing import Optional
 
 import numpy as np
@@ -30,6 +31,7 @@ except ImportError as error:  # pragma: no cover - pybullet is a hard dependency
                       'wheels): pip install pybullet==3.2.7') from error
 
 N_LEG_JOINTS = 12
+_position, _velocity = operator.itemgetter(0), operator.itemgetter(1)  # of a joint state
 
 
 def capped_gains(config: PyBulletConfig, inertia: np.ndarray) -> tuple:
@@ -71,6 +73,7 @@ class PyBulletJointControl:
         inertia = gravity_compensation.joint_inertia_diagonal(
             np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 0.0, 1.0]), nominal)
         self.kp, self.kd = capped_gains(config, inertia)
+        self._read_with_ft = list(index.actuated) + list(index.ft_joints)
         self.reset(nominal)
 
     def reset(self, q_des: np.ndarray) -> None:
@@ -112,23 +115,26 @@ class PyBulletJointControl:
         :param step_count: physics steps since the reset (paces the gravity compensation).
         """
         client, robot, config, index = self._client, self._robot, self._config, self._index
-        states = pybullet.getJointStates(robot, index.actuated, physicsClientId=client)
-        q = np.array([s[0] for s in states])
-        dq = np.array([s[1] for s in states])
+        compensate = (config.gravity_compensation
+                      and step_count % config.gravity_compensation_period == 0)
+        # One call reads the F/T joints too when the compensation needs them.
+        read = self._read_with_ft if compensate and index.ft_joints else index.actuated
+        states = pybullet.getJointStates(robot, read, physicsClientId=client)
+        n = len(index.actuated)
+        q = np.fromiter(map(_position, states[:n]), float, n)
+        dq = np.fromiter(map(_velocity, states[:n]), float, n)
         tau = self._pd_offset - self.kp * q - self.kd * dq
+        if compensate:
+            position, orientation = self._sensing.base_frame_pose()
+            if index.ft_joints:
+                # Normal force of each foot, with the foot's z axis taken as vertical.
+                normal = [-s[2][2] + m * config.gravity
+                          for s, m in zip(states[n:], index.foot_mass)]
+            else:
+                normal = self._sensing.contact_normal_forces()
+            contacts = tuple(f > config.contact_threshold for f in normal)
+            self._gravity_torque = self._compensation.torques(position, orientation, q, contacts)
         if config.gravity_compensation:
-            if step_count % config.gravity_compensation_period == 0:
-                position, orientation = self._sensing.base_frame_pose()
-                if index.ft_joints:
-                    ft = pybullet.getJointStates(robot, index.ft_joints, physicsClientId=client)
-                    # Normal force of each foot, with the foot's z axis taken as vertical.
-                    normal = [-s[2][2] + m * config.gravity
-                              for s, m in zip(ft, index.foot_mass)]
-                else:
-                    normal = self._sensing.contact_normal_forces()
-                contacts = tuple(f > config.contact_threshold for f in normal)
-                self._gravity_torque = self._compensation.torques(position, orientation, q,
-                                                                  contacts)
             tau += self._gravity_torque
         tau = np.minimum(np.maximum(tau, -index.effort_limit), index.effort_limit)
         self.last_torque = tau
