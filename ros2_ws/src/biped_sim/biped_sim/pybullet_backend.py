@@ -74,6 +74,7 @@ class PyBulletBackend(SimulatorBackend):
         self._terrain: Optional[Terrain] = None
         self._pushes: list = []
         self._step_count = 0
+        self._period_starts = True  # the next step starts the IMU's averaging interval
         pybullet.setGravity(0.0, 0.0, -config.gravity, physicsClientId=client)
         pybullet.setTimeStep(config.time_step, physicsClientId=client)
         pybullet.setPhysicsEngineParameter(numSolverIterations=config.solver_iterations,
@@ -195,6 +196,7 @@ class PyBulletBackend(SimulatorBackend):
         self._pushes = []
         self._joints.reset(q)
         self._sensing.mark_imu_velocity(0)
+        self._period_starts = True
         return self.sensors()
 
     def _set_base_pose(self, position: np.ndarray, orientation) -> None:
@@ -248,7 +250,11 @@ class PyBulletBackend(SimulatorBackend):
         dq_des = None
         if joint_velocities is not None:
             dq_des = finite_array('joint_velocities', joint_velocities, q_des.shape)
-        self._sensing.mark_imu_velocity(self._step_count)
+        if self._period_starts:
+            # The IMU averages from the step after the last readout: over the whole period when
+            # the period is run in parts (biped_sim.joint_servo.step_toward), not its last part.
+            self._sensing.mark_imu_velocity(self._step_count)
+        self._period_starts = read_sensors
         joints = self._joints
         joints.set_setpoints(q_des, dq_des)
         torque_mode = joints.torque_mode
