@@ -204,7 +204,8 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
     The forces are pushed in order, one every `interval` s from SCHEDULE_FIRST_PUSH s into the
     walk, each at the first phase of its kind at or after its due time in the plan as it is
     SCHEDULE_LOOKAHEAD s before (the adjuster may have moved touchdowns), until a fall. A push is
-    walked through when the robot still stands 1 s before the next is due. Unlike
+    walked through when the robot still stands when the next one starts (the last: 1 s before
+    another would be due); a fall before a push starts is the previous push's. Unlike
     run_push_trial, the robot meets each push as the earlier ones left it.
 
     :param forces: push magnitudes in order (N), each finite and >= 0
@@ -233,6 +234,7 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
     pushed, times, flights, withstood = [], [], [], 0.0
+    before_last = 0.0  # the largest walked through before the last push
     due = T_START + SCHEDULE_FIRST_PUSH
     for force in forces:
         runner.run(max(due - SCHEDULE_LOOKAHEAD - backend.time, 0.0), on_cycle=on_cycle)
@@ -242,17 +244,22 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
         runner.push(ExternalPush(force=(force * math.cos(direction),
                                         force * math.sin(direction), 0.0),
                                  duration=PUSH_DURATION, start_time=start))
-        pushed.append(force)
-        times.append(start)
         due = in_phase + interval  # the offset moves each push, not the schedule
         log = runner.run(due + PUSH_DURATION - SCHEDULE_LOOKAHEAD - backend.time,
                          on_cycle=on_cycle)
+        if log.fallen and log.fall_time < start:
+            # down before this push began: the one before felled it (as the graph counts)
+            return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
+                                      before_last, _revisions(source), _footsteps(source),
+                                      tuple(flights))
+        pushed.append(force)
+        times.append(start)
         flights.append(log.longest_flight(start))
         if log.fallen:
             return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
                                       withstood, _revisions(source), _footsteps(source),
                                       tuple(flights))
-        withstood = max(withstood, force)
+        before_last, withstood = withstood, max(withstood, force)
     return PushScheduleResult(tuple(pushed), tuple(times), math.nan, withstood,
                               _revisions(source), _footsteps(source), tuple(flights))
 

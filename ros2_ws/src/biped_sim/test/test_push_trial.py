@@ -1,11 +1,13 @@
 """Step adjustment on the PyBullet humanoid: a lateral push that falls without it is survived."""
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from biped_mpc.walking_controller import WalkingController, WalkingControllerParams
 from biped_planner.sides import SUPPORT_RIGHT
+from biped_sim import push_trial
 from biped_sim.errors import ConfigError
 from biped_sim.push_trial import (HUMANOID_ADJUSTER, HUMANOID_STEP_LIMITS, PHASES, push_start,
                                   PushScheduleResult, RECOVERY_SWING_LAG,
@@ -99,6 +101,46 @@ def test_a_schedule_pushes_at_its_phase_every_interval_until_a_fall(robot):
     assert felled.forces == (40.0, 2000.0) and felled.largest_withstood == 40.0
     assert felled.push_times[1] < felled.fall_time < felled.push_times[1] + 2.0
     assert len(felled.flights) == 2 and felled.largest_grounded() == 40.0
+
+
+class _FallingRunner:
+    """Test double of ClosedLoopRunner: its robot falls at FALL_TIME whatever is pushed."""
+
+    FALL_TIME = math.inf
+
+    def __init__(self, backend, controller, source) -> None:
+        self.backend = backend
+
+    def reset(self) -> None:
+        self.backend.time = 0.0
+
+    def push(self, push) -> None:
+        pass
+
+    def run(self, duration, on_cycle=None):
+        end = self.backend.time + duration
+        fallen = end >= self.FALL_TIME
+        self.backend.time = min(end, self.FALL_TIME)
+        return SimpleNamespace(fallen=fallen, fall_time=self.FALL_TIME if fallen else math.nan,
+                               longest_flight=lambda start: 0.0)
+
+
+def test_a_fall_before_a_push_begins_is_the_previous_push_s(monkeypatch):
+    monkeypatch.setattr(push_trial, 'ClosedLoopRunner', _FallingRunner)
+
+    def pushed(fall_time):
+        monkeypatch.setattr(_FallingRunner, 'FALL_TIME', fall_time)
+        return run_push_schedule(SimpleNamespace(time=0.0), None, None, (80.0, 110.0, 140.0),
+                                 0.0, 'early_single')
+    times = pushed(math.inf).push_times
+    # the robot falls 2.5 s after the 80 N push, when its run has ended (1 s before the next
+    # push is due) and before the 110 N push starts: 80 N felled it
+    early = pushed(times[0] + 2.5)
+    assert early.forces == (80.0,) and early.largest_withstood == 0.0
+    assert early.largest_grounded() == 0.0
+    # a fall after the 110 N push began is that push's
+    late = pushed(times[1] + 0.5)
+    assert late.forces == (80.0, 110.0) and late.largest_withstood == 80.0
 
 
 def test_a_push_that_throws_the_robot_off_the_ground_is_no_grounded_recovery():
