@@ -21,6 +21,7 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from biped_sim import push_trial
 from biped_sim.push_trial import MAX_FLIGHT, RECOVERY_SWING_LAG
 from biped_sim.run_log import longest_run
 from biped_tools.graph_session import stamp_seconds
@@ -177,12 +178,8 @@ def largest_grounded(pushes: List[Dict], walked: List[float],
                      max_flight: float = MAX_FLIGHT) -> float:
     """The largest force walked through with a foot loaded: the pushes walked through, up to
     the first that left both feet unloaded for longer than max_flight (s)."""
-    best = 0.0
-    for push, _ in zip(pushes, walked):
-        if push.get('longest_flight_s', 0.0) > max_flight + 1e-9:
-            break
-        best = max(best, push['force_n'])
-    return best
+    return push_trial.largest_grounded(
+        walked, [push.get('longest_flight_s', 0.0) for push in pushes], max_flight)
 
 
 def phase_at(states, t: float) -> str:

@@ -130,13 +130,23 @@ class PushScheduleResult:
         """The largest force walked through, with a foot in contact, before the first fall or
         the first push that left both feet unloaded for longer than max_flight (s), 0 for none:
         the stricter reading of the schedule, where a bounce is no recovery."""
-        best = 0.0
-        for k, (force, flight) in enumerate(zip(self.forces, self.flights)):
-            fell = k == len(self.forces) - 1 and math.isfinite(self.fall_time)
-            if fell or flight > max_flight + 1e-9:
-                break
-            best = max(best, force)
-        return best
+        walked = self.forces[:-1] if math.isfinite(self.fall_time) else self.forces
+        return largest_grounded(walked, self.flights, max_flight)
+
+
+def largest_grounded(walked, flights, max_flight: float = MAX_FLIGHT) -> float:
+    """The largest of the forces walked through (in push order) before the first whose push
+    left both feet unloaded for longer than max_flight (s), 0 for none.
+
+    :param walked: the forces walked through, in order (N)
+    :param flights: per push, the longest time with neither foot loaded after it (s)
+    """
+    best = 0.0
+    for force, flight in zip(walked, flights):
+        if flight > max_flight + 1e-9:
+            break
+        best = max(best, force)
+    return best
 
 
 def walk_reference(step_length: float = 0.0, n_steps: int = 16) -> WalkingReference:
