@@ -243,8 +243,14 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
         source, on_cycle = adjusted_source(reference, robot, adjuster, step_limits)
     runner = ClosedLoopRunner(backend, controller, source)
     runner.reset()
-    pushed, times, flights, withstood = [], [], [], 0.0
-    before_last = 0.0  # the largest walked through before the last push
+    pushed, times, flights = [], [], []
+
+    def result(fall_time: float) -> PushScheduleResult:
+        # after a fall the last push pushed is the one that felled the robot
+        walked = pushed[:-1] if math.isfinite(fall_time) else pushed
+        return PushScheduleResult(tuple(pushed), tuple(times), fall_time, max(walked, default=0.0),
+                                  _revisions(source), _footsteps(source), tuple(flights))
+
     due = T_START + SCHEDULE_FIRST_PUSH
     for force in forces:
         runner.run(max(due - SCHEDULE_LOOKAHEAD - backend.time, 0.0), on_cycle=on_cycle)
@@ -259,20 +265,13 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
                          on_cycle=on_cycle)
         if log.fallen and log.fall_time < start:
             # down before this push began: the one before felled it (as the graph counts)
-            return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
-                                      before_last, _revisions(source), _footsteps(source),
-                                      tuple(flights))
+            return result(float(log.fall_time))
         pushed.append(force)
         times.append(start)
         flights.append(log.longest_flight(start))
         if log.fallen:
-            return PushScheduleResult(tuple(pushed), tuple(times), float(log.fall_time),
-                                      withstood, _revisions(source), _footsteps(source),
-                                      tuple(flights))
-        before_last, withstood = withstood, max(withstood, force)
-    return PushScheduleResult(tuple(pushed), tuple(times), math.nan, withstood,
-                              _revisions(source), _footsteps(source), tuple(flights))
-
+            return result(float(log.fall_time))
+    return result(math.nan)
 
 def _revisions(source) -> int:
     return source.revision if isinstance(source, AdjustedWalk) else 0
