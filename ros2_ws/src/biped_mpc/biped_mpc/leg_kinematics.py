@@ -45,7 +45,8 @@ class LegKinematics:
         :param pelvis_rotation: (3, 3) pelvis orientation
         :return: (left position (3,), left rotation (3, 3), right position, right rotation)
         """
-        cos, sin = np.cos(q), np.sin(q)
+        # Python floats: the rotation matrices are built from them (numpy scalars cost more)
+        cos, sin = np.cos(q).tolist(), np.sin(q).tolist()
         return (self._leg(LEFT, cos[:6], sin[:6], pelvis_position, pelvis_rotation)
                 + self._leg(RIGHT, cos[6:], sin[6:], pelvis_position, pelvis_rotation))
 
@@ -59,9 +60,10 @@ class LegKinematics:
         :param pelvis_rotation: (3, 3) pelvis orientation
         :return: (position (3,), rotation (3, 3))
         """
-        return self._leg(side, np.cos(q), np.sin(q), pelvis_position, pelvis_rotation)
+        return self._leg(side, np.cos(q).tolist(), np.sin(q).tolist(), pelvis_position,
+                         pelvis_rotation)
 
-    def _leg(self, side: int, c: np.ndarray, s: np.ndarray, pelvis_position: np.ndarray,
+    def _leg(self, side: int, c: list, s: list, pelvis_position: np.ndarray,
              pelvis_rotation: np.ndarray) -> tuple:
         rz = np.array([[c[0], -s[0], 0.0], [s[0], c[0], 0.0], [0.0, 0.0, 1.0]])
         rx = np.array([[1.0, 0.0, 0.0], [0.0, c[1], -s[1]], [0.0, s[1], c[1]]])
