@@ -273,6 +273,7 @@ def run_push_schedule(backend, controller, robot, forces, direction: float, phas
             return result(float(log.fall_time))
     return result(math.nan)
 
+
 def _revisions(source) -> int:
     return source.revision if isinstance(source, AdjustedWalk) else 0
 
