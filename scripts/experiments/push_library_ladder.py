@@ -9,8 +9,9 @@ before it (a subset of directions gives the same rows as the whole table), and t
 deterministic: two settings can be compared cell by cell in a few minutes (about 1.3 s per
 trial on a quiet core). Settings are overridden per group: `ctl.NAME=VALUE`
 (WalkingControllerParams), `adj.NAME=VALUE` (OnlineStepAdjusterParams, from
-push_trial.HUMANOID_ADJUSTER) and `qp.NAME=VALUE` (StepAdjustmentParams, from
-push_trial.HUMANOID_STEP_LIMITS).
+push_trial.HUMANOID_ADJUSTER), `qp.NAME=VALUE` (StepAdjustmentParams, from
+push_trial.HUMANOID_STEP_LIMITS) and `sim.NAME=VALUE` (PyBulletConfig, e.g.
+sim.sole_contact_stiffness=1e5).
 
 Usage: .venv/bin/python scripts/experiments/push_library_ladder.py [--adjustment off]
            [--gait forward] [--directions 0,90] [--phases early_single,double] [--forces 80,110,140]
@@ -29,12 +30,12 @@ from biped_sim.pybullet_backend import PyBulletBackend, PyBulletConfig
 from biped_sim.robot_description import coman_like
 from biped_tools.closed_loop_walk import LEG_KP
 
-GROUPS = ('ctl', 'adj', 'qp')
+GROUPS = ('ctl', 'adj', 'qp', 'sim')
 GAITS = {'in_place': 0.0, 'forward': 0.1}   # step length (m)
 
 
 def overrides(settings) -> dict:
-    """{'ctl': {...}, 'adj': {...}, 'qp': {...}} from GROUP.NAME=VALUE strings."""
+    """{'ctl': {...}, 'adj': {...}, 'qp': {...}, 'sim': {...}} from GROUP.NAME=VALUE strings."""
     groups = {group: {} for group in GROUPS}
     for setting in settings:
         key, _, text = setting.partition('=')
@@ -51,14 +52,15 @@ def overrides(settings) -> dict:
 
 
 def cell(args, robot, params, adjuster, limits, forces, direction, phase,
-         offset: float = 0.0) -> tuple:
+         offset: float = 0.0, sim_settings=None) -> tuple:
     """The largest force of the ladder walked through at one direction and phase (N), the
     scheduled pushes started `offset` s later in their phase, and (schedule only, else the
     same) the largest walked through with a foot loaded (push_trial.MAX_FLIGHT)."""
     def simulator():
         # a fresh simulator per trial: PyBullet's contact state carries over a reset, and a
         # cell's figure depended on the trials run before it
-        return PyBulletBackend(robot, PyBulletConfig(leg_kp=LEG_KP))
+        return PyBulletBackend(robot, PyBulletConfig(**{'leg_kp': LEG_KP,
+                                                        **(sim_settings or {})}))
 
     if args.schedule:
         backend = simulator()
@@ -137,7 +139,7 @@ def main() -> None:
         row, row_grounded = [], []
         for phase in phases:
             figures = [cell(args, robot, params, adjuster, limits, forces, direction, phase,
-                            offset) for offset in offsets]
+                            offset, settings['sim']) for offset in offsets]
             row.append(statistics.median(f[0] for f in figures))
             row_grounded.append(statistics.median(f[1] for f in figures))
         withstood += row
