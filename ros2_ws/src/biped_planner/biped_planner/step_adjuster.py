@@ -51,6 +51,9 @@ class OnlineStepAdjusterParams:
         'replan before the next is considered (s)', low=0.0, high=1.0)
     replan_hip_from_estimate: bool = parameter(
         True, "replan the hip from the estimated COM and DCM (else from the reference's own)")
+    replan_dcm_from_footsteps: bool = parameter(
+        False, "the replanned reference's DCM is the one the moved steps ask for, its hip "
+        "position kept (else the ZMP of the next double support is bent to join the state)")
 
     def __post_init__(self) -> None:
         validate_fields(self, ConfigError)
@@ -162,7 +165,9 @@ class OnlineStepAdjuster:
             return StepAdjusterOutput(reference, self.revision, False, result)
         landings = moved_landings(reference.footsteps, swing.step + 2, result.location)
         state = (com, dcm) if self.params.replan_hip_from_estimate else (None, None)
-        adjusted = reference.adjust_step(t, landings, swing.lift_off + result.duration, *state)
+        adjusted = reference.adjust_step(
+            t, landings, swing.lift_off + result.duration, *state,
+            dcm_from_footsteps=self.params.replan_dcm_from_footsteps)
         self.revision += 1
         self._replans += 1
         self._last_replan = t

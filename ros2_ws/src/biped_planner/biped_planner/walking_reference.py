@@ -284,7 +284,8 @@ class WalkingReference:
 
     def adjust_step(self, t_now: float, footsteps: Sequence[Footstep], touchdown: float,
                     hip: Optional[Sequence[float]] = None,
-                    dcm: Optional[Sequence[float]] = None) -> 'WalkingReference':
+                    dcm: Optional[Sequence[float]] = None,
+                    dcm_from_footsteps: bool = False) -> 'WalkingReference':
         """A new reference in which the foot swinging now lands elsewhere and at another time.
 
         The step adjustment's replan, mid single support (extend cannot change a swinging
@@ -297,15 +298,21 @@ class WalkingReference:
         this reference's own): the ZMP stays at the stance centre until touchdown, and the
         free knot of the next double support (the final settle's second one when the step is
         the last) bends the ZMP so that the hip passes through that state and still ends at
-        rest (start_correction reports the bend). The phases before the current single
-        support are kept; the hip before t_now is the pendulum run backwards from the state,
-        which sampling never asks for.
+        rest (start_correction reports the bend). With dcm_from_footsteps the DCM at t_now is
+        instead the one the new footsteps ask for (run back from the walk's end over their ZMP)
+        and only the hip's position is kept: the reference's DCM jumps to where the moved step
+        catches it, and no ZMP near the step is bent (the final settle's free knot still takes
+        the hip's lag behind that DCM, so the walk ends at rest). The phases before the current
+        single support are kept; the hip before t_now is the pendulum run backwards from the
+        state, which sampling never asks for.
 
         :param t_now: current time, inside a single support phase (s)
         :param footsteps: the new landing of the swinging foot, then the later landings
         :param touchdown: new end of the single support (s), > t_now
         :param hip: (2,) hip position at t_now (m), None for this reference's own
         :param dcm: (2,) DCM hip + hip velocity / omega at t_now (m), with hip
+        :param dcm_from_footsteps: the DCM from the new footsteps instead of the ZMP's bend
+            (dcm is then not used)
         :return: the adjusted reference, revision one higher
         :raises ConfigError: if t_now is not in single support, the footsteps break the
             convention, the touchdown is not after t_now or hip and dcm are not both given
@@ -358,6 +365,9 @@ class WalkingReference:
             knot_times=[phase.t_begin] + after.knot_times,
             knot_zmp=[stance] + after.knot_zmp,
             free_knots=[index + 1 for index in after.free_knots])
+        if dcm_from_footsteps:
+            times, zmp = np.array(rows.knot_times), np.array(rows.knot_zmp)
+            _, dcm = PiecewiseLipm(times, zmp, self._omega, zmp[0]).state_at(t_now)
         return self._replanned_from(cut, rows, all_footsteps, timings, t_now, hip, dcm)
 
     def hold_landing(self, t_now: float, touchdown: float,

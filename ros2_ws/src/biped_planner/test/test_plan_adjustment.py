@@ -153,3 +153,64 @@ def test_reference_dcm_closed_form_matches_the_pendulum(t):
     swing = swing_step_at(REFERENCE, 1.55)
     np.testing.assert_allclose(swing.reference_dcm(t), REFERENCE.lipm.state_at(t)[1],
                                atol=1e-9)
+
+
+def _dcm_run_back(reference, t_from, dt=1e-4):
+    """The DCM at t_from by integrating xi_dot = omega (xi - p) backwards from the walk's end at
+    rest (xi = the final ZMP), p sampled from the reference (RK4, p linear within a step)."""
+    omega = reference.lipm.omega
+    t_end = reference.t_end
+    n = int(round((t_end - t_from) / dt))
+    times = t_end - dt * np.arange(n + 1)
+    zmp = reference.sample(t_from, n + 1, dt).zmp[::-1]
+    mids = 0.5 * (zmp[:-1] + zmp[1:])
+    xi = zmp[0].copy()
+    for k in range(n):
+        def rate(x, p):
+            return omega * (x - p)
+        k1 = rate(xi, zmp[k])
+        k2 = rate(xi - 0.5 * dt * k1, mids[k])
+        k3 = rate(xi - 0.5 * dt * k2, mids[k])
+        k4 = rate(xi - dt * k3, zmp[k + 1])
+        xi = xi - dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+    assert times[-1] == pytest.approx(t_from)
+    return xi
+
+
+@pytest.mark.parametrize('touchdown', [1.75, 1.9, 2.1])
+def test_a_step_adjusted_with_the_footsteps_dcm_bends_no_zmp(touchdown):
+    t = 1.62
+    landings = moved_landings(REFERENCE.footsteps, 3, (0.3, -0.15))
+    bent = REFERENCE.adjust_step(t, landings, touchdown)
+    straight = REFERENCE.adjust_step(t, landings, touchdown, dcm_from_footsteps=True)
+    # the moved step asks for another DCM than the unpushed plan's: the default bends the ZMP
+    # of the next double support to join the plan's own state, the option does not (the final
+    # settle's free knot takes the hip's lag behind the new DCM, a fraction of a millimetre at
+    # the double support's knot) ...
+    assert bent.start_correction > 0.05
+    assert straight.start_correction < 1e-3
+    # ... keeps the hip where it was at t ...
+    hip_now, dcm_now = straight.lipm.state_at(t)
+    np.testing.assert_allclose(hip_now, REFERENCE.lipm.state_at(t)[0], atol=1e-9)
+    # ... and takes the DCM the new footsteps ask for: the pendulum's DCM run back from the
+    # walk's end at rest over the new plan's ZMP (an independent integration)
+    np.testing.assert_allclose(dcm_now, _dcm_run_back(straight, t), atol=1e-6)
+    window = straight.sample(touchdown, 10, 0.01)  # the double support's ZMP: foot to foot
+    assert np.all(window.zmp[:, 0] >= REFERENCE.footsteps[2].x - 1e-3)
+    assert np.linalg.norm(dcm_now - REFERENCE.lipm.state_at(t)[1]) > 0.01
+    # the step lands where and when asked, the walk ends at rest between the last feet
+    landed = straight.sample(touchdown, 1, 0.01)
+    np.testing.assert_allclose(landed.right_foot[0], [0.3, -0.15, 0.0], atol=1e-9)
+    final = 0.5 * (np.array([landings[-1].x, landings[-1].y])
+                   + [landings[-2].x, landings[-2].y])
+    np.testing.assert_allclose(straight.sample(straight.t_end, 1, 0.01).hip[0], final,
+                               atol=1e-6)
+    np.testing.assert_allclose(straight.lipm.hip_velocity(np.array([straight.t_end])), 0.0,
+                               atol=1e-6)
+
+
+def test_the_footsteps_dcm_of_an_unmoved_step_is_the_plans_own():
+    # within the plan's own bend of its free knots at the start (0.2 mm here)
+    t = 1.62
+    same = REFERENCE.adjust_step(t, REFERENCE.footsteps[3:], 1.9, dcm_from_footsteps=True)
+    _same(REFERENCE.sample(t, 300, 0.01), same.sample(t, 300, 0.01), atol=1e-3)

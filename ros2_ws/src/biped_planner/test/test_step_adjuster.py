@@ -1,4 +1,5 @@
 """Online step adjuster: closed forms of the capture point, scipy, revisions, the off switch."""
+from dataclasses import replace
 import math
 
 import numpy as np
@@ -225,3 +226,30 @@ def test_measured_zmp_is_held_in_the_prediction(shift):
     nan = OnlineStepAdjuster(BARE, STIFF_OFFSET).update(T, REFERENCE, com, dcm,
                                                         (math.nan, math.nan))
     np.testing.assert_allclose(nan.adjustment.location, predicted.adjustment.location)
+
+
+@pytest.mark.parametrize('error', [(0.05, 0.0), (0.0, -0.04), (-0.03, 0.06)])
+def test_a_replan_with_the_footsteps_dcm_takes_the_estimate_as_its_own(error):
+    """A step placed at the capture point of the estimated DCM asks, run back from the new plan,
+    for most of that DCM now (not all: the double support starts on the unmoved stance foot),
+    so the replanned reference comes to the estimate without being given it. The default
+    replan keeps the plan's own DCM and bends the ZMP of the next double support."""
+    com, dcm = state_with_error(error)
+    own_dcm = REFERENCE.lipm.state_at(T)[1]
+    bent = OnlineStepAdjuster(replace(BARE, replan_hip_from_estimate=False),
+                              STIFF_OFFSET).update(T, REFERENCE, com, dcm)
+    straight = OnlineStepAdjuster(
+        replace(BARE, replan_hip_from_estimate=False, replan_dcm_from_footsteps=True),
+        STIFF_OFFSET).update(T, REFERENCE, com, dcm)
+    assert bent.applied and straight.applied
+    np.testing.assert_allclose(landing(straight.reference), landing(bent.reference),
+                               atol=1e-12)
+    np.testing.assert_allclose(bent.reference.lipm.state_at(T)[1], own_dcm, atol=1e-9)
+    assert bent.reference.start_correction > 0.01
+    moved = straight.reference.lipm.state_at(T)[1] - own_dcm
+    error = np.asarray(error)
+    share = float(np.dot(moved, error) / np.dot(error, error))
+    assert 0.7 < share < 1.0
+    assert np.linalg.norm(moved - share * error) < 0.1 * np.linalg.norm(error)
+    np.testing.assert_allclose(straight.reference.lipm.state_at(T)[0], com, atol=1e-9)
+    assert straight.reference.start_correction < 1e-3
