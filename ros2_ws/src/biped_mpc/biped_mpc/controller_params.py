@@ -90,7 +90,7 @@ class WalkingControllerParams:
         0.0, 'the same across the pelvis heading, where the sole is half as wide (m); 0: '
         'unbounded', low=0.0, high=1.0)
     adjusted_walk_dcm_leash: float = parameter(
-        0.0, "at each step the step adjuster moves, the MPC's commanded DCM is brought once "
+        0.05, "at each step the step adjuster moves, the MPC's commanded DCM is brought once "
         'within this distance of the measured one by moving the commanded velocities, so the '
         "MPC's model is pushed as the robot was (biped_mpc.command_leash, m); 0: off",
         low=0.0, high=1.0)

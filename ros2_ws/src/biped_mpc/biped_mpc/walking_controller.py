@@ -20,7 +20,7 @@ returns the 12 leg joint setpoints for the next period:
    position-controlled robot is too noisy, with impacts, to be fed back at full gain). With
    a command leash (command_leash_along / _across, off by default; biped_mpc.command_leash)
    the commanded state is first translated into a box around the measured hip. With
-   adjusted_walk_dcm_leash > 0 (off by default), at each step the step adjuster moves
+   adjusted_walk_dcm_leash > 0 (5 cm by default), at each step the step adjuster moves
    (walk_adjustments grows) the commanded DCM is brought within that distance of the measured
    one through the commanded velocities.
 4. MPC (biped_mpc.linear_mpc, both planes) on the references and bounds of

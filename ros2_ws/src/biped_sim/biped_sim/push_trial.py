@@ -77,7 +77,7 @@ HUMANOID_STEP_LIMITS = StepAdjustmentParams(
 HUMANOID_ADJUSTER = OnlineStepAdjusterParams(
     dcm_deadband=0.01, ankle_authority=0.3, location_threshold=0.02, timing_threshold=0.03,
     freeze_time=0.08, max_replans_per_step=2, replan_interval=0.04,
-    replan_hip_from_estimate=False)
+    replan_hip_from_estimate=False, replan_dcm_from_footsteps=True)
 
 
 @dataclass(frozen=True)
