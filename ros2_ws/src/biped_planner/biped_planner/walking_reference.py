@@ -366,6 +366,7 @@ class WalkingReference:
             knot_zmp=[stance] + after.knot_zmp,
             free_knots=[index + 1 for index in after.free_knots])
         if dcm_from_footsteps:
+            # the unbent knots' own DCM (run back from the end; the hip's start plays no part)
             times, zmp = np.array(rows.knot_times), np.array(rows.knot_zmp)
             _, dcm = PiecewiseLipm(times, zmp, self._omega, zmp[0]).state_at(t_now)
         return self._replanned_from(cut, rows, all_footsteps, timings, t_now, hip, dcm)

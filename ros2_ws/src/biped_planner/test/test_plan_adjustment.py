@@ -159,21 +159,20 @@ def _dcm_run_back(reference, t_from, dt=1e-4):
     """The DCM at t_from by integrating xi_dot = omega (xi - p) backwards from the walk's end at
     rest (xi = the final ZMP), p sampled from the reference (RK4, p linear within a step)."""
     omega = reference.lipm.omega
-    t_end = reference.t_end
-    n = int(round((t_end - t_from) / dt))
-    times = t_end - dt * np.arange(n + 1)
+    n = int(round((reference.t_end - t_from) / dt))
+    assert reference.t_end - n * dt == pytest.approx(t_from)
     zmp = reference.sample(t_from, n + 1, dt).zmp[::-1]
     mids = 0.5 * (zmp[:-1] + zmp[1:])
+
+    def rate(x, p):
+        return omega * (x - p)
     xi = zmp[0].copy()
     for k in range(n):
-        def rate(x, p):
-            return omega * (x - p)
         k1 = rate(xi, zmp[k])
         k2 = rate(xi - 0.5 * dt * k1, mids[k])
         k3 = rate(xi - 0.5 * dt * k2, mids[k])
         k4 = rate(xi - dt * k3, zmp[k + 1])
         xi = xi - dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-    assert times[-1] == pytest.approx(t_from)
     return xi
 
 
