@@ -36,7 +36,12 @@ def gen_short_wait(ros_context, executor):
     return make_gen(ros_context, executor, [Parameter('extension_wait', value=0.3)])
 
 
-def make_gen(ros_context, executor, parameters=()):
+@pytest.fixture
+def gen_before_clock(ros_context, executor):
+    return make_gen(ros_context, executor, start_clock=False)
+
+
+def make_gen(ros_context, executor, parameters=(), start_clock: bool = True):
     executor.track(ReferenceGeneratorNode(context=ros_context, parameter_overrides=[
         Parameter('use_sim_time', value=True)] + list(parameters)))
     client = executor.track(rclpy.create_node('reference_test_client', context=ros_context))
@@ -50,7 +55,8 @@ def make_gen(ros_context, executor, parameters=()):
     for name in ('plan', 'state', 'soles'):
         assert wait_for_subscribers(executor, g[name], timeout=15), name
     assert wait_for_subscribers(executor, g['clock'].publisher, timeout=15)
-    g['clock'].advance(0.05)
+    if start_clock:
+        g['clock'].advance(0.05)
     return g
 
 
@@ -409,3 +415,41 @@ def test_a_silent_state_machine_is_reported_on_diagnostics(gen):
     assert spin_until(g['executor'], lambda: any(
         s.level == DiagnosticStatus.OK
         for d in g['diagnostics'].messages[count:] for s in d.status), 5)
+
+
+def command_before_the_clock(g, stamp: float) -> None:
+    """The controller's joint command stamped at stamp comes before any /clock (across a
+    link the two arrive in either order), then the clock comes at the simulator's time."""
+    from builtin_interfaces.msg import Time
+    g['commands'] = g['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(g['executor'], g['commands'], timeout=15)
+    g['soles'].publish(sole_poses(0.0))
+    g['commands'].publish(JointState(header=Header(stamp=Time(
+        sec=int(stamp), nanosec=round((stamp % 1) * 1e9)))))
+    spin_until(g['executor'], lambda: False, 0.3)
+    g['clock'].advance(0.005)
+
+
+def test_a_command_that_comes_before_the_clock_is_answered_when_the_clock_comes(
+        gen_before_clock):
+    """Across a link, the controller's first command (stamped with the simulator's clock) came
+    before the generator's first /clock and was refused as ahead of a clock still at 0: its
+    reference was never sent and the lockstep held (docs/flaky_graph_tests.md, 2026-12-07)."""
+    g = gen_before_clock
+    command_before_the_clock(g, 100.0)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - 100.02) < 1e-6 for m in g['refs'].messages), 5.0), \
+        [stamp_seconds(m) for m in g['refs'].messages]
+    assert g['rosout'].has('joint_commands came before /clock')
+    assert not g['rosout'].has('ahead of the clock')
+
+
+def test_a_command_far_ahead_of_the_clock_that_comes_first_is_refused_when_it_comes(
+        gen_before_clock):
+    """Held until the clock comes, a forged stamp 100 s ahead of it is still refused."""
+    g = gen_before_clock
+    command_before_the_clock(g, 200.0)
+    assert spin_until(g['executor'], lambda: g['rosout'].has(
+        'joint_commands', 'ahead of the clock'), 5.0)
+    spin_until(g['executor'], lambda: False, 0.3)
+    assert not [m for m in g['refs'].messages if stamp_seconds(m) > 101.0]

@@ -216,6 +216,9 @@ class ReferenceGeneratorNode(Node):
         self._period_ns = int(round(1e9 / float(get('rate'))))
         self._sent_ns = None  # stamp of the newest reference sent
         self._held_ns = None  # the clock at the last wall-clock check (_on_held_clock)
+        # a joint command that came before any /clock (across a link the two arrive in either
+        # order): answered when the clock comes, not refused as ahead of a clock still at 0
+        self._command_before_clock: Optional[JointState] = None
         self.create_subscription(JointState, 'joint_commands', self._on_command, 10)
         self.create_timer(1.0 / float(get('rate')), self._on_timer)
         wall = Clock(clock_type=ClockType.STEADY_TIME)
@@ -570,6 +573,12 @@ class ReferenceGeneratorNode(Node):
         clock = self.get_clock()
         if not clock.ros_time_is_active:
             return
+        if clock.now().nanoseconds == 0:  # no /clock yet
+            if self._command_before_clock is None:
+                self.get_logger().info('joint_commands came before /clock: answered when the '
+                                       'clock comes')
+            self._command_before_clock = msg
+            return
         stamp = msg.header.stamp
         t_ns = nanoseconds_of(stamp) + self._period_ns
         if t_ns > clock.now().nanoseconds + int(MAX_STAMP_LEAD * 1e9):
@@ -579,7 +588,13 @@ class ReferenceGeneratorNode(Node):
         if self._sent_ns is None or t_ns > self._sent_ns:
             self._send(t_ns)
 
+    def _answer_command_before_clock(self) -> None:
+        msg, self._command_before_clock = self._command_before_clock, None
+        if msg is not None:
+            self._on_command(msg)
+
     def _on_timer(self) -> None:
+        self._answer_command_before_clock()
         now_ns = self.get_clock().now().nanoseconds
         # sent ahead: this tick's reference or the next one's is out (farther ahead: the clock
         # went back, after a reset of the simulation)
@@ -596,6 +611,7 @@ class ReferenceGeneratorNode(Node):
         clock = self.get_clock()
         if not clock.ros_time_is_active:
             return
+        self._answer_command_before_clock()
         now_ns = clock.now().nanoseconds
         if self._standing is None and self._session.reference is None and \
                 time.monotonic() - self._started_at > STANDING_PATIENCE:
