@@ -35,9 +35,9 @@ from biped_mpc.linear_mpc import MpcParams
 from biped_mpc.lipm_model import lipm_model, LipmParams
 from biped_sim.external_push import ExternalPush
 from biped_sim.model_plant import PlantParams
-from biped_planner.step_adjuster import OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_sim.model_walk import run_walk, walk, WalkSetup
+from biped_sim.push_trial import HUMANOID_ADJUSTER
 from biped_sim.walk_log import optimal_fraction, tracking_rms
 from biped_sim.push_recovery import (
     evaluate_push, evaluate_push_paper, largest_withstood_force, WithstandCriteria)
@@ -70,10 +70,13 @@ PLANE_NAMES = ('x', 'y')
 # foot, single support 0.4 .. 1.2 s.
 PAPER_STEP_ADJUSTMENT = StepAdjustmentParams(reach_forward=1.1, reach_backward=0.3,
                                              step_time_min=0.4, step_time_max=1.2)
-# Replans keep the reference's own hip, as the graph's reference generator does: replanned from
-# the Kalman estimate, the step's second replan undid most of the first (+350 N: the landing
-# 1.49 m, 40 ms later 1.10 m, then steps backwards; docs/controller_notes.md, "Model plant").
-PAPER_ADJUSTER = OnlineStepAdjusterParams(replan_hip_from_estimate=False)
+# The graph's adjuster (reference_generator.yaml step_adjustment, as the humanoid's push trials):
+# replans keep the reference's own hip (replanned from the Kalman estimate, the step's second
+# replan undid most of the first: +350 N landed at 1.49 m, 40 ms later 1.10 m, then stepped
+# backwards; docs/controller_notes.md, "Model plant") and take the moved steps' own DCM. With
+# the dataclass's defaults instead (0.05 m deadband, half the ankle's authority, frozen 0.2 s
+# before touchdown) the forward push stopped at +384 N by the paper's criterion.
+PAPER_ADJUSTER = HUMANOID_ADJUSTER
 
 
 def paper_reference() -> WalkingReference:
