@@ -59,7 +59,8 @@ def test_step_adjustment_recovers_a_push_the_fixed_plan_does_not(paper_reference
 
 
 def test_replans_from_the_reference_hip_keep_a_pushed_walk_going_forward(paper_reference):
-    """550 N forward, the experiment's adjuster (model_experiments.PAPER_ADJUSTER): every
+    """550 N forward, the adjuster's defaults replanning from the reference's hip (the
+    experiment's adjuster until 2026-12-07, model_experiments.PAPER_ADJUSTER): every
     landing after the push is ahead of the one before, and the walk completes. Replanned from
     the estimate instead, the step's second replan undid the first (landing 1.43 -> 0.5 m) and
     the walk went backwards (0.5, 0.32, 0.02 ... -0.58 m)."""
