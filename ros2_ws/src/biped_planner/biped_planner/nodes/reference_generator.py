@@ -28,7 +28,9 @@ a foot reported landed before its planned time ends the single support then (kin
 On sim time the controller waits for the reference of each period (lockstep). Once it has
 answered period t (its joint command stamped t), the simulator steps to t + 1 / rate, so the
 reference of that period is sent at once, while physics runs, instead of at its clock tick;
-a tick whose reference has not gone out that way (no controller yet) still sends it.
+a tick whose reference has not gone out that way (no controller yet) still sends it. A command
+that comes before this node's first /clock (across a link the two arrive in either order) is
+answered when the clock comes.
 
 The planner's own extension of a walk (request_id 0) is stamped with the start of the step that
 asked for it, and its plan after a step adjustment with the adjustment's time; each is spliced
