@@ -17,6 +17,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile
 
 from biped_planner.footsteps import straight_footsteps
+from biped_planner.node_support.stamps import time_msg_of
 from biped_planner.node_support.reference_messages import window_from_reference_msg
 from biped_planner.nodes.reference_generator import ReferenceGeneratorNode
 from biped_planner.sides import SUPPORT_DOUBLE
@@ -214,10 +215,9 @@ def test_the_planners_extension_applies_at_its_step_stamp_plus_the_delay(gen):
 def held_clock_command(g, t: float):
     """The lockstep pattern: the clock stands at t and the controller's command of t is out;
     the generator then sends the reference of t + 0.02 s at once."""
-    from builtin_interfaces.msg import Time
     from rosgraph_msgs.msg import Clock
     from sensor_msgs.msg import JointState
-    stamp = Time(sec=int(t), nanosec=round((t % 1) * 1e9))
+    stamp = time_msg_of(t)
     g['clock'].publisher.publish(Clock(clock=stamp))
     spin_until(g['executor'], lambda: False, 0.05)
     g['commands'].publish(JointState(header=Header(stamp=stamp)))
@@ -420,12 +420,10 @@ def test_a_silent_state_machine_is_reported_on_diagnostics(gen):
 def command_before_the_clock(g, stamp: float) -> None:
     """The controller's joint command stamped at stamp comes before any /clock (across a
     link the two arrive in either order), then the clock comes at the simulator's time."""
-    from builtin_interfaces.msg import Time
     g['commands'] = g['client'].create_publisher(JointState, 'joint_commands', 10)
     assert wait_for_subscribers(g['executor'], g['commands'], timeout=15)
     g['soles'].publish(sole_poses(0.0))
-    g['commands'].publish(JointState(header=Header(stamp=Time(
-        sec=int(stamp), nanosec=round((stamp % 1) * 1e9)))))
+    g['commands'].publish(JointState(header=Header(stamp=time_msg_of(stamp))))
     spin_until(g['executor'], lambda: False, 0.3)
     g['clock'].advance(0.005)
 

@@ -4,8 +4,10 @@ import pytest
 
 from biped_planner.step_adjuster import OnlineStepAdjusterParams
 from biped_planner.step_adjustment import StepAdjustmentParams
+from biped_mpc.state_estimator import EstimatorParams
 from biped_mpc.three_mass_model import three_mass_model
 from biped_sim.external_push import ExternalPush
+from biped_sim.model_plant import PlantParams
 from biped_sim.model_walk import walk, WalkSetup
 from biped_sim.push_recovery import evaluate_push, evaluate_push_paper
 
@@ -15,15 +17,22 @@ QP = StepAdjustmentParams(reach_forward=1.1, reach_backward=0.3, step_time_min=0
                           step_time_max=1.2)
 
 
-def pushed_walk(reference, force, adjust, replan_hip_from_estimate=True):
+def walk_pushed(reference, force, adjuster, noise_seed=None):
+    """The experiment's walk with a push at 1.6 s (none for 0 N); with noise_seed, the paper's
+    noise level on the measurements and the Kalman filter."""
     push = None if force == 0.0 else ExternalPush((force, 0.0, 0.0), duration=0.1,
                                                   start_time=1.6)
-    adjuster = OnlineStepAdjusterParams(enabled=adjust,
-                                        replan_hip_from_estimate=replan_hip_from_estimate)
+    noise = {} if noise_seed is None else dict(plant=PlantParams.paper_noise(noise_seed),
+                                               estimator=EstimatorParams())
     setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
                       polygon_margin=(0.005, 0.004), step_adjuster=adjuster,
-                      step_adjustment=QP)
+                      step_adjustment=QP, **noise)
     return walk(reference, setup), push
+
+
+def pushed_walk(reference, force, adjust, replan_hip_from_estimate=True):
+    return walk_pushed(reference, force, OnlineStepAdjusterParams(
+        enabled=adjust, replan_hip_from_estimate=replan_hip_from_estimate))
 
 
 def test_unpushed_walk_is_not_adjusted(paper_reference):
@@ -72,18 +81,6 @@ def test_replans_from_the_reference_hip_keep_a_pushed_walk_going_forward(paper_r
     assert evaluate_push_paper(run.log, push).withstood
 
 
-def noisy_pushed_walk(reference, force, adjuster, seed):
-    """The experiment's noisy walk (the paper's noise level, the Kalman filter) with a push."""
-    from biped_mpc.state_estimator import EstimatorParams
-    from biped_sim.model_plant import PlantParams
-    push = ExternalPush((force, 0.0, 0.0), duration=0.1, start_time=1.6)
-    setup = WalkSetup(controller_model=MODEL, plant_model=MODEL, push=push,
-                      polygon_margin=(0.005, 0.004), plant=PlantParams.paper_noise(seed),
-                      estimator=EstimatorParams(), step_adjuster=adjuster,
-                      step_adjustment=QP)
-    return walk(reference, setup), push
-
-
 @pytest.mark.parametrize('seed', [0, 1])
 @pytest.mark.parametrize('force', [435.0, -395.0])
 def test_the_graphs_adjuster_withstands_the_papers_pushes_by_its_criterion(paper_reference,
@@ -92,7 +89,7 @@ def test_the_graphs_adjuster_withstands_the_papers_pushes_by_its_criterion(paper
     ZMP back inside the support polygon before the walk ends, which ends standing), with the
     graph's adjuster (push_trial.HUMANOID_ADJUSTER, model_experiments.PAPER_ADJUSTER)."""
     from biped_sim.push_trial import HUMANOID_ADJUSTER
-    run, push = noisy_pushed_walk(paper_reference, force, HUMANOID_ADJUSTER, seed)
+    run, push = walk_pushed(paper_reference, force, HUMANOID_ADJUSTER, seed)
     assert run.revisions > 0
     verdict = evaluate_push_paper(run.log, push)
     assert verdict.withstood, verdict.failures
@@ -103,5 +100,5 @@ def test_with_the_adjusters_defaults_the_papers_forward_push_is_not_withstood(pa
     before touchdown): the same +435 N ends with the ZMP outside after the walk's end or the
     robot not standing (the experiment's figure was +384 N)."""
     adjuster = OnlineStepAdjusterParams(replan_hip_from_estimate=False)
-    run, push = noisy_pushed_walk(paper_reference, 435.0, adjuster, 0)
+    run, push = walk_pushed(paper_reference, 435.0, adjuster, 0)
     assert not evaluate_push_paper(run.log, push).withstood
