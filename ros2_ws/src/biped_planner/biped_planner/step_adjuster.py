@@ -49,6 +49,13 @@ class OnlineStepAdjusterParams:
     replan_interval: float = parameter(
         0.04, 'shortest time between two replans of a step: the DCM estimate settles after a '
         'replan before the next is considered (s)', low=0.0, high=1.0)
+    capture_gate: bool = parameter(
+        False, 'move the step only when the stance ankle, using its whole ZMP box, cannot '
+        'bring the DCM at touchdown within capture_tolerance of the plan (an uneven floor '
+        "keeps the estimate centimetres off the reference without a threat to balance)")
+    capture_tolerance: float = parameter(
+        0.03, 'with capture_gate: the DCM at touchdown may miss the plan by this much, per '
+        "axis, and the next stance ankle catches it (m)", low=0.0, high=1.0)
     replan_hip_from_estimate: bool = parameter(
         True, "replan the hip from the estimated COM and DCM (else from the reference's own)")
     replan_dcm_from_footsteps: bool = parameter(
@@ -155,6 +162,8 @@ class OnlineStepAdjuster:
             zmp = np.asarray(zmp, dtype=float).reshape(-1)
             if zmp.shape == (2,) and np.all(np.isfinite(zmp)):
                 measured_zmp = (float(zmp[0]), float(zmp[1]))
+        if self.params.capture_gate and self._capturable(t, swing, dcm):
+            return StepAdjusterOutput(reference, self.revision, False)
         result = self._solve(t, swing, dcm, measured_zmp)
         if result.status in (STATUS_FAILED, STATUS_BLOCKED) or not self._may_replan(t):
             return StepAdjusterOutput(reference, self.revision, False, result)
@@ -186,6 +195,20 @@ class OnlineStepAdjuster:
     def _may_replan(self, t: float) -> bool:
         return (self._replans < self.params.max_replans_per_step
                 and t - self._last_replan >= self.params.replan_interval - 1e-9)
+
+    def _capturable(self, t: float, swing, dcm: np.ndarray) -> bool:
+        """Whether the planned step still catches the DCM: the stance ZMP held anywhere in its
+        box, the DCM at touchdown misses the reference's by capture_tolerance at most."""
+        reference_dcm = swing.reference_dcm(t)
+        growth = math.exp(self._omega * (swing.touchdown - t))
+        for axis in range(2):
+            error = float(dcm[axis]) - reference_dcm[axis]
+            half = float(swing.zmp_half_size[axis])
+            shift = min(max(error * growth / (growth - 1.0), -half), half)
+            # xi_td - xi_td_ref = (error - shift) growth + shift
+            if abs((error - shift) * growth + shift) > self.params.capture_tolerance:
+                return False
+        return True
 
     def _solve(self, t: float, swing, dcm: np.ndarray, measured_zmp=None) -> StepAdjustment:
         """The QP for the DCM error beyond the deadband and what the ankle cannot take."""

@@ -253,3 +253,41 @@ def test_a_replan_with_the_footsteps_dcm_takes_the_estimate_as_its_own(error):
     assert np.linalg.norm(moved - share * error) < 0.1 * np.linalg.norm(error)
     np.testing.assert_allclose(straight.reference.lipm.state_at(T)[0], com, atol=1e-9)
     assert straight.reference.start_correction < 1e-3
+
+
+def gate_boundary(tolerance, axis=0):
+    """The DCM error along an axis at which the capture gate opens at T: with the ZMP held at
+    the box's edge h, the DCM at touchdown misses the plan's by (e - h) g + h = tolerance."""
+    half = float(swing_step_at(REFERENCE, T).zmp_half_size[axis])
+    growth = math.exp(OMEGA * (1.9 - T))
+    return half + (tolerance - half) / growth
+
+
+@pytest.mark.parametrize('tolerance', [0.0, 0.03])
+def test_capture_gate_opens_where_the_stance_ankle_no_longer_catches_the_dcm(tolerance):
+    gated = replace(BARE, capture_gate=True, capture_tolerance=tolerance)
+    boundary = gate_boundary(tolerance)
+    # just inside: the ankle's whole box brings the DCM within the tolerance, the plan stays
+    # (the ungated adjuster moves it)
+    inside = state_with_error((boundary - 1e-4, 0.0))
+    output = OnlineStepAdjuster(gated, STIFF_OFFSET).update(T, REFERENCE, *inside)
+    assert not output.applied and output.adjustment is None and output.reference is REFERENCE
+    assert OnlineStepAdjuster(BARE, STIFF_OFFSET).update(T, REFERENCE, *inside).applied
+    # just outside: the gate lets the adjuster answer, and with the answer of the ungated one
+    outside = state_with_error((boundary + 1e-4, 0.0))
+    output = OnlineStepAdjuster(gated, STIFF_OFFSET).update(T, REFERENCE, *outside)
+    ungated = OnlineStepAdjuster(BARE, STIFF_OFFSET).update(T, REFERENCE, *outside)
+    assert output.applied
+    np.testing.assert_allclose(output.adjustment.location, ungated.adjustment.location,
+                               atol=1e-12)
+
+
+def test_capture_gate_watches_each_axis():
+    gated = replace(BARE, capture_gate=True, capture_tolerance=0.03)
+    boundary = gate_boundary(0.03, axis=1)
+    inside = OnlineStepAdjuster(gated).update(
+        T, REFERENCE, *state_with_error((0.0, -boundary + 1e-4)))
+    assert not inside.applied and inside.adjustment is None
+    lateral = OnlineStepAdjuster(gated).update(
+        T, REFERENCE, *state_with_error((0.0, -boundary - 1e-3)))
+    assert lateral.applied and lateral.adjustment.location[1] < landing(REFERENCE)[1]
