@@ -146,12 +146,19 @@ def test_a_teleop_walk_stops_finishing_its_step_when_cmd_vel_falls_silent():
         assert session.spin_until(lambda: publisher.get_subscription_count() > 0, 30.0)
         forward = Twist()
         forward.linear.x = 0.1
-        tick = at_rate(0.1, lambda: publisher.publish(forward))  # a teleop at 10 Hz
+        sent = []  # sim time of each cmd_vel, as this node's clock has it (not ahead of it)
+
+        def send() -> None:
+            publisher.publish(forward)
+            sent.append(session.sim_time())
+        tick = at_rate(0.1, send)  # a teleop at 10 Hz of wall time
         assert session.spin_until(lambda: tick() or watch.states[-1].step_index >= 5, 120.0), \
             'the teleop walk did not go on'
         walking = [s for s in watch.states if s.phase != WalkingState.IDLE]
         assert not any(s.stop_requested for s in walking)
-        last_sent = session.sim_time()
+        # the last cmd_vel went out up to 0.1 s of wall time (several periods of a lockstep
+        # clock) before the loop ended: the timeout counts from it, not from the loop's end
+        last_sent = sent[-1]
         assert session.spin_until(lambda: watch.phase() == WalkingState.IDLE, 60.0)
         assert session.wait_sim_time(1.0, 30.0)
         assert not session.fallen()
