@@ -4,13 +4,13 @@ On the tiles the estimated DCM strays centimetres from the reference with no thr
 and an adjuster that answers every such error cuts walks short; the blind step down from the
 tiles onto the floor leaves a DCM only a longer step catches. With `capture_gate` the step
 moves only when the stance ankle's whole ZMP box cannot bring the DCM back by touchdown
-(README, "Uneven terrain").
+(README, "Rough ground, the step adjuster with its capture gate").
 """
 from biped_tools.scenarios import terrain
 from biped_tools.scenarios.trial import Trial
 from ros_harness import domain_id_for_worker
 
-# README "Uneven terrain": the adjuster with its gate, lateral steps within the humanoid's
+# README "Rough ground": the adjuster with its gate, lateral steps within the humanoid's
 # reach (a 0.3 m wide step asked after the step down lands short and is never confirmed)
 ROUGH_GROUND = {'reference_generator': ['step_adjustment.enabled:=true',
                                         'step_adjustment.capture_gate:=true',

@@ -21,6 +21,12 @@ from biped_planner.step_adjustment import (STATUS_BLOCKED, STATUS_FAILED, StepAd
                                            StepAdjustment, StepAdjustmentParams)
 
 
+def _cancelling_shift(error: float, growth: float, limit: float) -> float:
+    """The stance ZMP shift that brings a DCM error e back to the reference's at touchdown,
+    e a / (a - 1) with a = growth = exp(omega T_remaining), clipped to +-limit (m)."""
+    return min(max(error * growth / (growth - 1.0), -limit), limit)
+
+
 @dataclass(frozen=True)
 class OnlineStepAdjusterParams:
     """When the step adjuster acts and how it hands its answer to the reference."""
@@ -94,7 +100,10 @@ class OnlineStepAdjuster:
     in the foot, which cancels an error up to about the foot's half size, so the predicted ZMP
     is the reference ZMP moved by the shift that would cancel the shrunk error,
     e a / (a - 1) with a = exp(omega T_remaining), clipped to ankle_authority of the ZMP box.
-    The step moves only for what the ankle cannot do.
+    The step moves only for what the ankle cannot do. With capture_gate the QP does not even
+    run until the ankle's whole box (not its ankle_authority share) misses the plan's DCM at
+    touchdown by more than capture_tolerance: on uneven ground the estimate strays without a
+    threat to balance.
 
     The QP's nominal is the step as first planned (landing, duration, and the reference's DCM
     at touchdown minus the landing as the offset), kept until that step lands, so that repeated
@@ -157,13 +166,13 @@ class OnlineStepAdjuster:
             self._last_replan = -math.inf
         if t > swing.touchdown - self.params.freeze_time:
             return StepAdjusterOutput(reference, self.revision, False)
+        if self.params.capture_gate and self._capturable(t, swing, dcm):
+            return StepAdjusterOutput(reference, self.revision, False)
         measured_zmp = None
         if zmp is not None:
             zmp = np.asarray(zmp, dtype=float).reshape(-1)
             if zmp.shape == (2,) and np.all(np.isfinite(zmp)):
                 measured_zmp = (float(zmp[0]), float(zmp[1]))
-        if self.params.capture_gate and self._capturable(t, swing, dcm):
-            return StepAdjusterOutput(reference, self.revision, False)
         result = self._solve(t, swing, dcm, measured_zmp)
         if result.status in (STATUS_FAILED, STATUS_BLOCKED) or not self._may_replan(t):
             return StepAdjusterOutput(reference, self.revision, False, result)
@@ -203,8 +212,7 @@ class OnlineStepAdjuster:
         growth = math.exp(self._omega * (swing.touchdown - t))
         for axis in range(2):
             error = float(dcm[axis]) - reference_dcm[axis]
-            half = float(swing.zmp_half_size[axis])
-            shift = min(max(error * growth / (growth - 1.0), -half), half)
+            shift = _cancelling_shift(error, growth, float(swing.zmp_half_size[axis]))
             # xi_td - xi_td_ref = (error - shift) growth + shift
             if abs((error - shift) * growth + shift) > self.params.capture_tolerance:
                 return False
@@ -223,7 +231,7 @@ class OnlineStepAdjuster:
             error = math.copysign(max(abs(error) - deadband, 0.0), error)
             limit = params.ankle_authority * float(swing.zmp_half_size[axis])
             errors.append(error)
-            ankle.append(min(max(error * growth / (growth - 1.0), -limit), limit))
+            ankle.append(_cancelling_shift(error, growth, limit))
         stance = swing.stance
         held = ((float(swing.zmp[0]) + ankle[0], float(swing.zmp[1]) + ankle[1])
                 if measured_zmp is None else measured_zmp)
