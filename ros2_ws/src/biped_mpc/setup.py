@@ -16,7 +16,8 @@ setup(
     ],
     install_requires=['setuptools'],
     zip_safe=True,
-    description='Three-mass and LIPM models, linear MPC, state estimator and inverse kinematics of the biped stack.',
+    description=('Three-mass and LIPM models, linear MPC, state estimator and inverse '
+                 'kinematics of the biped stack.'),
     license='Apache-2.0',
     entry_points={
         'console_scripts': [

@@ -16,7 +16,8 @@ setup(
     ],
     install_requires=['setuptools'],
     zip_safe=True,
-    description='Walking state machine, A* and footstep planner, step timing and walking references of the biped stack.',
+    description=('Walking state machine, A* and footstep planner, step timing and walking '
+                 'references of the biped stack.'),
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
