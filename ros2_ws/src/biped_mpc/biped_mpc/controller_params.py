@@ -259,6 +259,10 @@ class WalkingControllerParams:
         "foot against the plan's landing from the plan's stance foot, so a robot whose feet "
         'drifted from a blind plan still has its touchdowns confirmed; false: the distance from '
         "the plan's landing point in the world")
+    touchdown_gate_needs_other_foot: bool = parameter(
+        False, 'the distance gate refuses a foot only while the other foot is in contact: past '
+        'its planned landing a loaded foot is confirmed wherever it stands when the robot has no '
+        'other foot down; false: a foot off its plan is refused whatever holds the robot')
     stabilizer_planned_support: bool = parameter(
         True, 'the stabilizer distributes the wrench, damps the ankles and levels the feet '
         'on the feet the plan has on the ground (Kajita), not only on detected contacts: a '

@@ -137,6 +137,39 @@ def test_the_default_gate_in_the_world_refuses_a_step_made_from_a_slid_stance_fo
     assert '0.080 m from its planned landing (touchdown_gate_distance' in events[0]
 
 
+def land_off_plan_then_lift_the_other_foot(loop, lift_at):
+    """The left foot lands 0.1 m short of its landing (planned at 0.4 s) and is loaded with 300
+    N from 0.3 s; the right foot is unloaded from lift_at on, as when the plan lifts it:
+    the contact states of every cycle."""
+    air, load = sensor_wrench(0.0), sensor_wrench(300.0)
+    states = []
+    for k in range(50):
+        t = k * DT
+        loop.sense(t, DT, np.array([air if t < 0.3 - 1e-9 else load,
+                                    load if t < lift_at - 1e-9 else air]),
+                   flat_soles(x_left=0.0), Window(landing=max(20 - k, 0)))
+        states.append(loop.contacts)
+    return states
+
+
+def test_a_foot_off_its_plan_is_confirmed_once_the_other_foot_is_off_the_ground(
+        coman_like_model):
+    loop = loop_with(coman_like_model, touchdown_gate_needs_other_foot=True)
+    states = land_off_plan_then_lift_the_other_foot(loop, lift_at=0.6)
+    # refused while the right foot stands (0.1 m from the landing, the gate 0.05 m) ...
+    assert all(state == (False, True) for state in states[15:30])
+    # ... confirmed once its detector reads it gone (the F/T low-pass and the dwell: two
+    # cycles after the unloading), within two cycles: the robot stands on the left foot
+    gone = next(k for k, state in enumerate(states) if not state[RIGHT])
+    assert gone == 32
+    assert states[gone + 2:] == [(True, False)] * (len(states) - gone - 2)
+
+
+def test_by_default_a_foot_off_its_plan_stays_refused_with_no_foot_down(loop):
+    states = land_off_plan_then_lift_the_other_foot(loop, lift_at=0.6)
+    assert states[-1] == (False, False)
+
+
 def test_a_moved_landing_time_moves_the_gate_phase(coman_like_model):
     # planned at 0.4 s, the step is moved to land at 0.6 s: loaded at 0.3 s on the planned
     # point, the foot is inside the gate distance but at phase 0.3 / 0.6 = 0.5 only from 0.3 s

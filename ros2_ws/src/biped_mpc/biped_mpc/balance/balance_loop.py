@@ -71,6 +71,9 @@ class BalanceLoopParams:
     :param gate_from_stance: the distance gate compares the step (landing foot - measured
         stance foot) with the plan's (landing point - planned stance foot); false: the foot
         with the landing point in the world
+    :param gate_needs_other_foot: the distance gate refuses a foot only while the other foot
+        is in contact: past its planned landing a loaded foot is confirmed wherever it stands
+        when nothing else holds the robot; false: refused as long as it is off its plan
     :param com_admittance: pelvis target speed per metre of measured - desired ZMP (1/s)
     :param com_admittance_time_constant: leak of that offset (s)
     :param com_admittance_limit: largest offset per axis (m)
@@ -94,6 +97,7 @@ class BalanceLoopParams:
     contact_aware_landing: bool = True
     gate_follows_plan: bool = True
     gate_from_stance: bool = False
+    gate_needs_other_foot: bool = False
     com_admittance: float = 0.0
     com_admittance_time_constant: float = 1.0
     com_admittance_limit: float = 0.03
@@ -151,6 +155,7 @@ class BalanceLoopParams:
             ft_sensor_height=p.ft_sensor_height, contact_aware_landing=p.contact_aware_landing,
             gate_follows_plan=p.touchdown_gate_follows_plan,
             gate_from_stance=p.touchdown_gate_from_stance,
+            gate_needs_other_foot=p.touchdown_gate_needs_other_foot,
             com_admittance=p.com_admittance,
             com_admittance_time_constant=p.com_admittance_time_constant,
             com_admittance_limit=p.com_admittance_limit,
@@ -342,6 +347,8 @@ class BalanceLoop:
                     # stopped 9 cm short by a higher tile's edge was refused for ever, and a
                     # plan holding the single support for it waited for nothing
                     distance = None
+                if self._last_foot_down(t, side, swing):
+                    distance = None
             state = self._detectors[side].update(t, wrenches[side].normal_force, phase, distance)
             if swing is not None:
                 self._watch_refusal(t, side, swing, state, distance)
@@ -365,6 +372,14 @@ class BalanceLoop:
                               [soles[s][0] for s in touching], point,
                               min_force=self.params.ft.cop_min_force)[:2]
         return SensedFeet(tuple(wrenches), contacts, zmp)
+
+    def _last_foot_down(self, t: float, side: int, swing: '_Swing') -> bool:
+        """The foot is past its planned landing and the other foot reads no contact: the robot
+        can stand on nothing else, so the distance gate does not apply (with
+        gate_needs_other_foot). A foot refused there left the controller with no latched foot
+        until the fall (docs/controller_notes.md, "Touchdowns that are never confirmed")."""
+        return (self.params.gate_needs_other_foot and t >= swing.landing_time
+                and not self._detectors[1 - side].in_contact)
 
     def _gate_distance(self, side: int, swing: '_Swing', soles: tuple, window) -> float:
         """How far the foot is from its planned landing, for the touchdown gate (m).
