@@ -7,7 +7,9 @@ extension could come after its splice time and be spliced later, which changes t
 generator therefore holds the reference of a time by which an extension is due until the
 extension has come (or the planner is gone). The same holds for the plan the planner publishes
 after a step adjustment (any walk: a teleop walk steps on from the adjusted landing, a goal walk
-is planned anew to its goal), stamped with the adjustment's time. Pure Python, time is an
+is planned anew to its goal), stamped with the adjustment's time. A step's extension that came
+before an adjustment made while it waited for its splice is dropped then (it lacks the moved
+landing), and the planner sends it again: that one is awaited too. Pure Python, time is an
 argument.
 """
 from typing import Optional, Sequence
@@ -21,7 +23,8 @@ STAMP_TOLERANCE = 0.03  # s: the state machine's phase start and the reference's
 def awaited_extension(phases: Sequence, t: float, delay: float,
                       newest_extension: Optional[float], continuous: bool = True,
                       adjusted: Sequence[float] = (),
-                      adjusted_delay: Optional[float] = None) -> Optional[float]:
+                      adjusted_delay: Optional[float] = None,
+                      refreshed: Optional[float] = None) -> Optional[float]:
     """The stamp of the latest extension due by t that has not come: a step's start, or a
     step adjustment's time.
 
@@ -34,19 +37,28 @@ def awaited_extension(phases: Sequence, t: float, delay: float,
     :param adjusted: times of this plan's step adjustments (s)
     :param adjusted_delay: how long after an adjustment the planner's plan after it is spliced
         in (s); None: delay
+    :param refreshed: stamp of the newest step extension (not a plan after an adjustment)
+        received since this plan's latest adjustment (s), None when none has come since
     :return: that stamp (s), None when nothing is awaited
     """
-    due = None
+    step = None
     for phase in phases if continuous else ():
         if phase.t_begin + delay > t:
             break
         if phase.kind == PHASE_SINGLE_SUPPORT and phase.step_index >= FIRST_EXTENDED_STEP:
-            due = phase.t_begin
+            step = phase.t_begin
     after = delay if adjusted_delay is None else adjusted_delay
+    due = step
     due_adjusted = max((a for a in adjusted if a + after <= t), default=None)
     if due_adjusted is not None and (due is None or due_adjusted > due):
         due = due_adjusted
-    if due is None or (newest_extension is not None and
-                       newest_extension >= due - STAMP_TOLERANCE):
-        return None
-    return due
+    if due is not None and (newest_extension is None or
+                            newest_extension < due - STAMP_TOLERANCE):
+        return due
+    # the step's extension as it was before an adjustment made while it waited is dropped at
+    # its splice: the one sent after that adjustment must be in
+    if step is not None and any(step + STAMP_TOLERANCE < a < step + delay and a <= t
+                                for a in adjusted) and \
+            (refreshed is None or refreshed < step - STAMP_TOLERANCE):
+        return step
+    return None

@@ -74,3 +74,25 @@ def test_an_adjustment_replan_is_awaited_after_its_own_delay():
                              [adjusted], 0.04) is None
     assert awaited_extension(reference.phases, adjusted + 0.04, DELAY, None, False,
                              [adjusted], 0.04) == adjusted
+
+
+def test_a_step_extension_superseded_by_an_adjustment_before_its_splice_is_awaited_again():
+    # teleop walk: step 3's extension came, then the adjuster moved the step a tenth into its
+    # single support, before that extension's splice (start + 0.35 s), and the planner's replan
+    # of the adjustment came; the extension as it was is dropped at its splice, so the one the
+    # planner sends after the adjustment is awaited
+    reference = in_place_reference()
+    start = single_support_starts(reference)[3]
+    adjusted = start + 0.1
+    t = start + DELAY
+    assert awaited_extension(reference.phases, t, DELAY, adjusted, True, [adjusted], 0.04,
+                             refreshed=None) == start
+    assert awaited_extension(reference.phases, t, DELAY, adjusted, True, [adjusted], 0.04,
+                             refreshed=start) is None
+    # not before the extension's own splice time
+    assert awaited_extension(reference.phases, t - 0.02, DELAY, adjusted, True, [adjusted],
+                             0.04, refreshed=None) is None
+    # an adjustment after the splice leaves the spliced extension alone: only its replan
+    late = start + DELAY + 0.01
+    assert awaited_extension(reference.phases, late + 0.04, DELAY, late, True, [late], 0.04,
+                             refreshed=None) is None

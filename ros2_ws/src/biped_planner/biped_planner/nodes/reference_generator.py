@@ -197,6 +197,8 @@ class ReferenceGeneratorNode(Node):
         self._planner_process = LivelinessWatch(self, 'footstep_plan')
         self._continuous = False  # the newest plan used is a teleop plan the planner extends
         self._newest_extension = None  # (plan_id, stamp s) of the planner's newest extension
+        # (plan_id, stamp s) of the newest step extension since this node's latest adjustment
+        self._refreshed_extension = None
         self._adjustments = (None, [])  # (plan_id, stamps s) of this node's adjustments
         self._estimate_ns = -1  # stamp of the newest balance_estimate answered (ns)
         self._later_estimates = []  # taken before their reference: answered with it
@@ -328,6 +330,7 @@ class ReferenceGeneratorNode(Node):
         replanned = newest[1] if newest is not None and newest[0] == adjustment.plan_id else None
         self._adjustments = (adjustment.plan_id, [t for t in stamps if replanned is None or
                                                   t > replanned] + [seconds_of(stamp)])
+        self._refreshed_extension = None
         landing = adjustment.footsteps[adjustment.step_index + 2]
         self.get_logger().info(
             f'step {adjustment.step_index} adjusted (plan {adjustment.plan_id}, revision '
@@ -374,6 +377,12 @@ class ReferenceGeneratorNode(Node):
             newest = self._newest_extension
             if newest is None or newest[0] != msg.plan_id or stamp > newest[1]:
                 self._newest_extension = (msg.plan_id, stamp)
+            adjusted_plan, adjusted = self._adjustments
+            if not (adjusted_plan == msg.plan_id and any(abs(stamp - a) < 1e-6
+                                                          for a in adjusted)):
+                refreshed = self._refreshed_extension  # a step's extension, not an adjustment's
+                if refreshed is None or refreshed[0] != msg.plan_id or stamp > refreshed[1]:
+                    self._refreshed_extension = (msg.plan_id, stamp)
         self._send_held()  # the reference waiting for it goes out now, if it may
         if done == 'queued':
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
@@ -422,6 +431,7 @@ class ReferenceGeneratorNode(Node):
         self._epoch = epoch
         self._session = self._new_session()
         self._adjustments = (None, [])
+        self._refreshed_extension = None
         self._estimate_ns, self._later_estimates = -1, []  # the clock went back
         self._standing = None
         self._soles_seen = False
@@ -495,11 +505,13 @@ class ReferenceGeneratorNode(Node):
             return False
         plan_id = self._session.plan_id
         newest, (adjusted_plan, adjusted) = self._newest_extension, self._adjustments
+        refreshed = self._refreshed_extension
         due = awaited_extension(
             reference.phases, t_ns * 1e-9, self.get_parameter('extension_delay').value,
             newest[1] if newest is not None and newest[0] == plan_id else None,
             self._continuous, adjusted if adjusted_plan == plan_id else (),
-            self.get_parameter('adjustment_replan_delay').value)
+            self.get_parameter('adjustment_replan_delay').value,
+            refreshed[1] if refreshed is not None and refreshed[0] == plan_id else None)
         waiting = self._waiting
         if due is None:
             self._waiting = None
