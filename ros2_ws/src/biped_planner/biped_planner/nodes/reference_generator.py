@@ -377,10 +377,8 @@ class ReferenceGeneratorNode(Node):
             newest = self._newest_extension
             if newest is None or newest[0] != msg.plan_id or stamp > newest[1]:
                 self._newest_extension = (msg.plan_id, stamp)
-            adjusted_plan, adjusted = self._adjustments
-            if not (adjusted_plan == msg.plan_id and any(abs(stamp - a) < 1e-6
-                                                          for a in adjusted)):
-                refreshed = self._refreshed_extension  # a step's extension, not an adjustment's
+            if not self._answers_adjustment(msg.plan_id, stamp):  # a step's extension
+                refreshed = self._refreshed_extension
                 if refreshed is None or refreshed[0] != msg.plan_id or stamp > refreshed[1]:
                     self._refreshed_extension = (msg.plan_id, stamp)
         self._send_held()  # the reference waiting for it goes out now, if it may
@@ -485,11 +483,16 @@ class ReferenceGeneratorNode(Node):
             self.destroy_subscription(self._soles_sub)
             self._soles_sub = None
 
+    def _answers_adjustment(self, plan_id: int, stamp: float) -> bool:
+        """Whether the planner's change of a plan stamped `stamp` (s) is its plan after one of
+        this node's step adjustments (else its extension at a step's start)."""
+        adjusted_plan, adjusted = self._adjustments
+        return adjusted_plan == plan_id and any(abs(stamp - a) < 1e-6 for a in adjusted)
+
     def _change_delay(self, plan_id: int, stamp: float) -> float:
         """How long after its stamp the planner's change of a plan applies (s): its plan after
         one of this node's step adjustments soon, its extension at a step's start later."""
-        adjusted_plan, adjusted = self._adjustments
-        if adjusted_plan == plan_id and any(abs(stamp - a) < 1e-6 for a in adjusted):
+        if self._answers_adjustment(plan_id, stamp):
             return self.get_parameter('adjustment_replan_delay').value
         return self.get_parameter('extension_delay').value
 
