@@ -10,10 +10,15 @@ resolution, origin, occupied_thresh, free_thresh, negate, mode), or else an empt
 the robot's start (so a goal_pose can be sent at once). A map file that cannot be used stops
 map_server at start with an error naming the file and field, and with it the graph.
 
+With the simulator among the nodes every node follows its /clock (use_sim_time): the
+simulator makes the time, and a node on the wall clock would stamp its messages decades ahead of
+the sensors. Without it (a robot's own driver, or the workstation side of a simulated robot on
+another host) the nodes keep the wall clock unless --sim-time is given.
+
   .venv/bin/python scripts/bringup.py                      # every node, headless
-  .venv/bin/python scripts/bringup.py --sim-time --map FILE.yaml -p simulator:start_x:=0.5
+  .venv/bin/python scripts/bringup.py --map FILE.yaml -p simulator:start_x:=0.5
   .venv/bin/python scripts/bringup.py --nodes state_machine --domain-id 7
-  .venv/bin/python scripts/bringup.py --gui --sim-time -p simulator:lockstep:=false
+  .venv/bin/python scripts/bringup.py --gui -p simulator:lockstep:=false
   .venv/bin/python scripts/bringup.py --compose control    # control path in one process
   .venv/bin/python scripts/bringup.py --compose all        # every node in one process
   .venv/bin/python scripts/bringup.py --compose simulator,mpc_controller \
@@ -62,6 +67,11 @@ def parse_compose(values: List[str], nodes: List[str]) -> List[List[str]]:
     return [g for g in groups if g]
 
 
+def follows_sim_time(args: argparse.Namespace, nodes: List[str]) -> bool:
+    """Whether the nodes follow /clock: asked for, or the simulator makes it here."""
+    return args.sim_time or ('simulator' in nodes and not args.wall_time)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -75,8 +85,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--backend', choices=['pybullet', 'model'], default='pybullet',
                         help='simulator backend')
     parser.add_argument('--gui', action='store_true', help='open the simulator window')
-    parser.add_argument('--sim-time', action='store_true',
-                        help='every node follows the simulator\'s /clock')
+    clock = parser.add_mutually_exclusive_group()
+    clock.add_argument('--sim-time', action='store_true',
+                       help='every node follows the simulator\'s /clock (the default when '
+                            'the simulator is among the nodes)')
+    clock.add_argument('--wall-time', action='store_true',
+                       help='the nodes keep the wall clock even beside the simulator')
     parser.add_argument('--map', type=Path, default=None, metavar='FILE.yaml',
                         help='map for map_server, in the nav2 map_server format (YAML + '
                              'PGM/PNG); default: an empty map around the start pose')
@@ -106,10 +120,13 @@ def main(argv=None) -> int:
             return 2
     options = GraphOptions(nodes=nodes, params_files=parse_params_files(args.params_file),
                            overrides=parse_overrides(args.param), domain_id=args.domain_id,
-                           backend=args.backend, gui=args.gui, use_sim_time=args.sim_time,
+                           backend=args.backend, gui=args.gui,
+                           use_sim_time=follows_sim_time(args, nodes),
                            keep_going=args.keep_going,
                            map_file=args.map.resolve() if args.map else None,
                            compose=parse_compose(args.compose, nodes))
+    print('[bringup] clock: ' + ("the simulator's /clock (use_sim_time)" if options.use_sim_time
+                                  else 'the wall clock'), flush=True)
     stop = stop_on_signals()
     try:
         graph = NodeGraph(options)

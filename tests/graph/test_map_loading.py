@@ -28,7 +28,7 @@ def test_bringup_with_a_pgm_map_file_walks_start_to_goal(processes, ros_context,
     _, start, goal = paper_start_goal_example()
     grid = load_map(PGM_MAP)
     bringup = processes.start(
-        [PYTHON, BRINGUP, '--sim-time', '--map', str(PGM_MAP),
+        [PYTHON, BRINGUP, '--map', str(PGM_MAP),  # sim time without --sim-time
          '-p', f'simulator:start_x:={start.x}', '-p', f'simulator:start_y:={start.y}',
          '-p', f'simulator:start_yaw:={start.yaw}'],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
