@@ -80,6 +80,22 @@ def test_a_teleop_walk_steps_on_from_an_adjusted_landing():
     assert (new.x - planned.x, new.y - planned.y) == pytest.approx((0.05, -0.04), abs=1e-9)
 
 
+def test_the_landings_after_an_adjustment_do_not_depend_on_an_extension_made_before_it():
+    # The planner extends a teleop walk when a step starts and adopts a step adjustment when
+    # it hears of one; which comes first is the order of two messages. Its lag filter on the
+    # command must not count the extension it made before the adjustment and then dropped.
+    early, late = session(), session()
+    for s in (early, late):
+        seen = s.teleop(StepCommand(0.1, 0.0, 0.0), 0.6, Pose2D(0.0, 0.0))
+        for step in range(1, 5):
+            seen = s.on_step(step) or seen
+    assert early.on_step(5) is not None  # its extension, made before the adjustment came
+    adjusted = moved(seen.footsteps, 6, 0.03, -0.02)  # the adjuster saw the plan without it
+    for s in (early, late):
+        s.adopt_adjustment(seen.plan_id, 4, adjusted)
+    assert early.on_step(5).footsteps == late.on_step(5).footsteps
+
+
 def test_a_goal_walk_is_planned_anew_from_the_adjusted_landing_to_its_goal():
     from biped_planner.astar import AStarPlanner
     from biped_planner.example_maps import paper_start_goal_example
