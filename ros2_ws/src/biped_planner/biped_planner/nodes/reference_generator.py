@@ -263,6 +263,12 @@ class ReferenceGeneratorNode(Node):
             while not arrived() and time.monotonic() < deadline:
                 time.sleep(0.0002)
                 messages += reader.take_all()
+            if not arrived():
+                self.get_logger().warning(
+                    f'the balance estimate of t={expected_ns * 1e-9:.3f} s did not come within '
+                    f'{ESTIMATE_WAIT * 1e3:.0f} ms of wall time: the step adjuster answers it '
+                    'with a later reference (this run may differ from one on a quieter '
+                    'machine)', throttle_duration_sec=2.0)
         # the controller's next periods wait; any other stamp is answered (or refused) now
         horizon = expected_ns + 2 * self._period_ns
 
