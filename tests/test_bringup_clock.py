@@ -1,6 +1,4 @@
 """Which clock bringup gives the nodes (no ROS needed)."""
-import pytest
-
 from biped_tools.bringup import build_parser, follows_sim_time
 from biped_tools.node_graph import KNOWN_NODES
 
@@ -12,18 +10,11 @@ def clock(argv, nodes):
     return follows_sim_time(build_parser().parse_args(argv), nodes)
 
 
-def test_beside_the_simulator_the_nodes_follow_its_clock_unless_told_otherwise():
+def test_beside_the_simulator_the_nodes_follow_its_clock():
     assert clock([], list(KNOWN_NODES))
     assert clock(['--nodes', 'simulator'], ['simulator'])
-    assert not clock(['--wall-time'], list(KNOWN_NODES))
 
 
 def test_without_the_simulator_the_wall_clock_unless_sim_time_is_asked_for():
     assert not clock([], WORKSTATION)
     assert clock(['--sim-time'], WORKSTATION)
-
-
-def test_sim_time_and_wall_time_together_are_refused(capsys):
-    with pytest.raises(SystemExit):
-        build_parser().parse_args(['--sim-time', '--wall-time'])
-    assert 'not allowed with argument' in capsys.readouterr().err

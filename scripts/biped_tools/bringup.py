@@ -68,8 +68,9 @@ def parse_compose(values: List[str], nodes: List[str]) -> List[List[str]]:
 
 
 def follows_sim_time(args: argparse.Namespace, nodes: List[str]) -> bool:
-    """Whether the nodes follow /clock: asked for, or the simulator makes it here."""
-    return args.sim_time or ('simulator' in nodes and not args.wall_time)
+    """Whether the nodes follow /clock: asked for, or the simulator makes it here (beside it
+    the wall clock has no use: the sensors are stamped with the simulator's time)."""
+    return args.sim_time or 'simulator' in nodes
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -85,12 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--backend', choices=['pybullet', 'model'], default='pybullet',
                         help='simulator backend')
     parser.add_argument('--gui', action='store_true', help='open the simulator window')
-    clock = parser.add_mutually_exclusive_group()
-    clock.add_argument('--sim-time', action='store_true',
-                       help='every node follows the simulator\'s /clock (the default when '
-                            'the simulator is among the nodes)')
-    clock.add_argument('--wall-time', action='store_true',
-                       help='the nodes keep the wall clock even beside the simulator')
+    parser.add_argument('--sim-time', action='store_true',
+                        help='every node follows the simulator\'s /clock (always when the '
+                             'simulator is among the nodes)')
     parser.add_argument('--map', type=Path, default=None, metavar='FILE.yaml',
                         help='map for map_server, in the nav2 map_server format (YAML + '
                              'PGM/PNG); default: an empty map around the start pose')

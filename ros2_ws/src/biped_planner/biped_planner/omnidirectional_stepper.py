@@ -103,8 +103,8 @@ class OmnidirectionalStepper:
         self._params = params
         self._feet = FeetState(start, params.step_width, first_swing, params.limits)
         self._filter = FirstOrderLag(params.lag_time_constant, [0.0, 0.0, 0.0])
-        # the filter's output after each footstep list length, for adopt
-        self._filtered = {len(self._feet.footsteps): self._filter.value}
+        # the filter's output after each length of the footstep list, for adopt
+        self._filter_outputs = {len(self._feet.footsteps): self._filter.value}
 
     @property
     def footsteps(self) -> List[Footstep]:
@@ -149,27 +149,26 @@ class OmnidirectionalStepper:
                   min(max(command.step_angle, -params.max_step_angle), params.max_step_angle)]
         forward, sideways, turn = (float(v) for v in self._filter.update(target, step_time))
         landing = self._step(forward, sideways, turn)
-        self._filtered[len(self._feet.footsteps)] = self._filter.value
+        self._filter_outputs[len(self._feet.footsteps)] = self._filter.value
         return landing
 
     def adopt(self, footsteps) -> None:
         """Go on from these footsteps (a step adjuster moved a landing and the later ones with
         it); the command filter goes back to its output after the last of them, as this
         stepper made it. Footsteps it had appended beyond them (an extension the adjuster had
-        not yet seen) are dropped with their filter updates: the next footstep is then the same
-        whether the extension was made before the adjustment came or after, which the order
-        of two messages decides (it moved a terrain trial's footstep by one ulp, and the walk
-        by 0.19 m at its end, between a quiet and a loaded run).
+        not yet seen) are dropped with their filter updates, so the next footstep does not
+        depend on whether that extension was made before the adjustment came or after (the
+        order of two messages).
 
         :param footsteps: the footstep list, >= 2 footsteps of alternating sides
         """
         self._feet = FeetState.from_footsteps(footsteps, self._params.step_width,
                                               self._params.limits)
         count = len(self._feet.footsteps)
-        if count in self._filtered:
-            self._filter.reset(self._filtered[count])
-        self._filtered = {n: v for n, v in self._filtered.items() if n <= count}
-        self._filtered[count] = self._filter.value
+        if count in self._filter_outputs:
+            self._filter.reset(self._filter_outputs[count])
+        self._filter_outputs = {n: v for n, v in self._filter_outputs.items() if n <= count}
+        self._filter_outputs[count] = self._filter.value
 
     def close(self) -> Footstep:
         """A final step that brings the swing foot beside the stance foot (no filtering); the
@@ -179,7 +178,7 @@ class OmnidirectionalStepper:
         """
         self._filter.reset([0.0, 0.0, 0.0])
         landing = self._step(0.0, 0.0, 0.0)
-        self._filtered[len(self._feet.footsteps)] = self._filter.value
+        self._filter_outputs[len(self._feet.footsteps)] = self._filter.value
         return landing
 
     def _step(self, forward: float, sideways: float, turn: float) -> Footstep:
