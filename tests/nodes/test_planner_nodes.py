@@ -367,7 +367,7 @@ def test_a_balance_estimate_that_does_not_come_in_time_is_said(adjusting_graph):
     period before a reference once the one before that came; when it does not come the step
     adjuster answers it later and the run may differ from one on a quieter machine: the log
     says so."""
-    from builtin_interfaces.msg import Time
+    from rclpy.time import Time
     from rosgraph_msgs.msg import Clock
     from sensor_msgs.msg import JointState
     from std_msgs.msg import Header
@@ -381,8 +381,8 @@ def test_a_balance_estimate_that_does_not_come_in_time_is_said(adjusting_graph):
     first = int(round(g['clock'].t * 1e9)) + period  # ns: the clock stands there, the
     #                                                  controller's command of it is out
 
-    def stamp(ns: int) -> Time:
-        return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+    def stamp(ns: int):
+        return Time(nanoseconds=ns).to_msg()
 
     def lockstep_period(ns: int) -> None:
         g['clock'].publisher.publish(Clock(clock=stamp(ns)))

@@ -56,7 +56,7 @@ current walk's reference then runs to its plan's end and stands.
 import time
 
 import math
-from typing import NamedTuple, Optional
+from typing import NamedTuple, Optional, Tuple
 
 from biped_msgs.msg import (BalanceEstimate, FootstepPlan, ReferenceTrajectory, StepAdjustment,
                             WalkingState)
@@ -121,6 +121,19 @@ class ExtensionWait(NamedTuple):
     @property
     def holding(self) -> bool:
         return self.since is not None
+
+
+def plan_stamp(record: Optional[Tuple[int, float]], plan_id: int) -> Optional[float]:
+    """The stamp (s) of a (plan_id, stamp) record when it is of plan_id, else None."""
+    return record[1] if record is not None and record[0] == plan_id else None
+
+
+def newer_plan_stamp(record: Optional[Tuple[int, float]], plan_id: int,
+                     stamp: float) -> Tuple[int, float]:
+    """The record to keep after a stamp of plan_id: the newer of the two; another plan's
+    record is replaced."""
+    known = plan_stamp(record, plan_id)
+    return (plan_id, stamp) if known is None or stamp > known else record
 
 
 class ReferenceGeneratorNode(Node):
@@ -332,8 +345,7 @@ class ReferenceGeneratorNode(Node):
         plan_id, stamps = self._adjustments
         if plan_id != adjustment.plan_id:
             stamps = []
-        newest = self._newest_extension
-        replanned = newest[1] if newest is not None and newest[0] == adjustment.plan_id else None
+        replanned = plan_stamp(self._newest_extension, adjustment.plan_id)
         self._adjustments = (adjustment.plan_id, [t for t in stamps if replanned is None or
                                                   t > replanned] + [seconds_of(stamp)])
         self._refreshed_extension = None
@@ -380,13 +392,10 @@ class ReferenceGeneratorNode(Node):
                 self._planner_behind = False
                 self.get_logger().info("the planner's extensions come in time again: "
                                        'references wait for them again')
-            newest = self._newest_extension
-            if newest is None or newest[0] != msg.plan_id or stamp > newest[1]:
-                self._newest_extension = (msg.plan_id, stamp)
+            self._newest_extension = newer_plan_stamp(self._newest_extension, msg.plan_id, stamp)
             if not self._answers_adjustment(msg.plan_id, stamp):  # a step's extension
-                refreshed = self._refreshed_extension
-                if refreshed is None or refreshed[0] != msg.plan_id or stamp > refreshed[1]:
-                    self._refreshed_extension = (msg.plan_id, stamp)
+                self._refreshed_extension = newer_plan_stamp(self._refreshed_extension,
+                                                             msg.plan_id, stamp)
         self._send_held()  # the reference waiting for it goes out now, if it may
         if done == 'queued':
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
@@ -513,14 +522,13 @@ class ReferenceGeneratorNode(Node):
                 self._planner_behind or self._phase not in WALKING_PHASES:
             return False
         plan_id = self._session.plan_id
-        newest, (adjusted_plan, adjusted) = self._newest_extension, self._adjustments
-        refreshed = self._refreshed_extension
+        adjusted_plan, adjusted = self._adjustments
         due = awaited_extension(
             reference.phases, t_ns * 1e-9, self.get_parameter('extension_delay').value,
-            newest[1] if newest is not None and newest[0] == plan_id else None,
+            plan_stamp(self._newest_extension, plan_id),
             self._continuous, adjusted if adjusted_plan == plan_id else (),
             self.get_parameter('adjustment_replan_delay').value,
-            refreshed[1] if refreshed is not None and refreshed[0] == plan_id else None)
+            plan_stamp(self._refreshed_extension, plan_id))
         waiting = self._waiting
         if due is None:
             self._waiting = None
