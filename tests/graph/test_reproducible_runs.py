@@ -10,6 +10,8 @@ import sys
 
 import numpy as np
 
+from biped_msgs.msg import WalkCommand, WalkingState
+
 from biped_tools.graph_session import GraphSession
 from biped_tools.scenarios import push_directions
 from ros_harness import domain_id_for_worker
@@ -22,6 +24,8 @@ WALK = 6.0   # s of walking compared: the start and eight steps, through the pla
 #              extensions of the walk in place (they apply at a time stated from the step that
 #              asked for them; spliced on arrival, the runs were 5e-6 m apart 1.64 s into the
 #              walk)
+STOP = 4.15  # s into the walk: a stated STOP (answered at the start of the step under way then;
+#              answered on arrival, two terrain runs parted 0.04 s after theirs by 5.9e-5 m)
 
 
 # the step adjuster on, with the controller it needs (README, "Pushes from every direction")
@@ -47,9 +51,10 @@ def busy_loops(count: int):
 
 
 def walk(busy_processes: int, domain_id: int, overrides=None, push=None,
-         command=(('command', 1),)) -> tuple:
-    """A walk (in place by default) from START, optionally pushed; (walk start, {t: pelvis},
-    plans the planner republished after START + 2 s)."""
+         command=(('command', 1),), stop_at=None) -> tuple:
+    """A walk (in place by default) from START, optionally pushed and stopped at a stated time;
+    (walk start, {t: pelvis}, plans the planner republished after START + 2 s, the walk's end
+    (s) or None)."""
     with busy_loops(busy_processes), \
             GraphSession(domain_id, overrides=overrides, log=print) as session:
         session.wait_until_ready()
@@ -60,6 +65,8 @@ def walk(busy_processes: int, domain_id: int, overrides=None, push=None,
         plan = session.plan_answering(
             lambda: session.send_command(start_time=START, **dict(command)))
         assert plan is not None and plan.status == 0, plan
+        if stop_at is not None:
+            session.send_command(command=WalkCommand.STOP, start_time=stop_at)
         arrived = session.sim_time()
         assert arrived < START - HORIZON, f'the plan came at t={arrived:.2f} s'
         assert session.spin_until(lambda: session.sim_time() >= START + WALK, 240)
@@ -68,14 +75,19 @@ def walk(busy_processes: int, domain_id: int, overrides=None, push=None,
         adjusted = [p for p in session.series.plans if p.request_id == 0 and
                     p.header.stamp.sec + p.header.stamp.nanosec * 1e-9 > START + 2.0]
         assert not session.fallen()
-    return walk_start, {round(row[0], 3): row[1:4] for row in pelvis}, len(adjusted)
+        ended = next((stamp - in_phase for stamp, phase, *_, in_phase in session.series.states
+                      if phase == WalkingState.IDLE and stamp > START), None)
+    return walk_start, {round(row[0], 3): row[1:4] for row in pelvis}, len(adjusted), ended
 
 
-def test_the_start_of_a_walk_in_place_is_the_same_quiet_and_under_two_busy_loops():
+def test_a_walk_in_place_to_a_stated_stop_is_the_same_quiet_and_under_two_busy_loops():
     # a fresh domain for the second graph: no discovery data of the first one in it
-    quiet_start, quiet, _ = walk(0, domain_id_for_worker())
-    loaded_start, loaded, _ = walk(2, domain_id_for_worker() + 2)
+    quiet_start, quiet, _, quiet_end = walk(0, domain_id_for_worker(), stop_at=START + STOP)
+    loaded_start, loaded, _, loaded_end = walk(2, domain_id_for_worker() + 2,
+                                               stop_at=START + STOP)
     assert quiet_start == loaded_start == START
+    # stands again before the end of the comparison (the stop and its closing step are in it)
+    assert quiet_end == loaded_end and quiet_end is not None and quiet_end < START + WALK - 0.2
     assert_same_paths(quiet, loaded)
 
 
@@ -84,8 +96,8 @@ def test_a_goal_walk_replanned_after_a_step_adjustment_is_the_same_quiet_and_loa
     adjusted landing and publishes it stamped with the adjustment, and the reference generator
     splices it in at that time plus extension_delay (waiting for it in lockstep): the same path
     on a quiet and on a loaded machine."""
-    _, quiet, replans = walk(0, domain_id_for_worker(), ADJUSTING, PUSH, GOAL_WALK)
-    _, loaded, _ = walk(2, domain_id_for_worker() + 2, ADJUSTING, PUSH, GOAL_WALK)
+    _, quiet, replans, _ = walk(0, domain_id_for_worker(), ADJUSTING, PUSH, GOAL_WALK)
+    _, loaded, _, _ = walk(2, domain_id_for_worker() + 2, ADJUSTING, PUSH, GOAL_WALK)
     assert replans >= 1, 'the push was not answered by a step adjustment'
     assert_same_paths(quiet, loaded)
 

@@ -289,6 +289,80 @@ def test_a_command_stated_for_a_later_time_steers_from_the_first_step_starting_t
     assert first_forward.request_id == 0 and stamp_s(first_forward) == extensions[0]
 
 
+def single_support_starts(states) -> dict:
+    """{step_index: start (s)} of the single supports in walking_state messages."""
+    return {s.step_index: round(stamp_s(s) - s.time_in_phase, 6) for s in states
+            if s.phase == WalkingState.SINGLE_SUPPORT}
+
+
+def test_a_stop_stated_for_a_later_time_ends_the_walk_after_the_step_under_way_then(graph):
+    """The planner holds a STOP whose start_time is ahead and answers it at the start of the
+    single support under way then, stamped with that start (request_id 0, as that step's
+    extension would be): the walk stops at the same step, whenever the STOP arrived."""
+    g = graph
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI))  # walk in place
+    first = latest_plan(g)
+    g['clock'].advance(1.2)
+    singles = [s for s in g['states'].messages if s.phase == WalkingState.SINGLE_SUPPORT]
+    single, step = first.single_support, first.single_support + first.double_support
+    # the middle of a single support three steps on
+    stated = stamp_s(singles[-1]) - singles[-1].time_in_phase + 3 * step + single / 2
+    statuses = len(g['statuses'].messages)
+    g['command'].publish(WalkCommand(command=WalkCommand.STOP, start_time=stated))
+    assert last_status(g, statuses).error_code == CommandStatus.OK
+    g['clock'].advance(4.0)
+    states = g['states'].messages
+    assert states[-1].phase == WalkingState.IDLE
+    starts = single_support_starts(states)
+    last_step = next(k for k, start in starts.items() if start <= stated < start + single)
+    plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
+    stop_plans = [p for p in plans if not p.continuous]
+    assert len(stop_plans) == 1
+    stop_plan = stop_plans[0]
+    assert stop_plan.request_id == 0 and abs(stamp_s(stop_plan) - starts[last_step]) < 1e-6
+    # no extension of that step: the stop is its change of the walk
+    assert not any(p.continuous and abs(stamp_s(p) - starts[last_step]) < 1e-6 for p in plans)
+    # the step under way at the stated time, then the closing step
+    assert len(stop_plan.footsteps) == last_step + 4
+    assert max(starts) == last_step + 1 and states[-1].step_index == last_step + 2
+    assert not any(s.stop_requested for s in states if stamp_s(s) < stated - 1e-6)
+
+
+def test_a_stop_stated_too_late_for_its_step_stops_the_walk_at_once(graph):
+    g = graph
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI))
+    first = latest_plan(g)
+    g['clock'].advance(1.2)
+    state = g['states'].messages[-1]
+    while state.phase != WalkingState.SINGLE_SUPPORT or state.time_in_phase > 0.1:
+        g['clock'].advance(0.02)
+        state = g['states'].messages[-1]
+    # the step under way now is the one of the stated time: its start has gone by
+    g['command'].publish(WalkCommand(command=WalkCommand.STOP,
+                                     start_time=stamp_s(state) + 0.05))
+    assert g['plans'].wait_for(g['executor'], lambda m: not m[-1].continuous, 10.0)
+    stop_plan = g['plans'].messages[-1]
+    assert stop_plan.plan_id == first.plan_id and not stop_plan.continuous
+    assert stop_plan.request_id != 0  # the answer to the request, sent when it came
+    assert len(stop_plan.footsteps) == state.step_index + 4
+    g['clock'].advance(2.0)
+    assert g['states'].messages[-1].phase == WalkingState.IDLE
+
+
+def test_a_walk_command_drops_a_stop_stated_for_later(graph):
+    g = graph
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI))
+    first = latest_plan(g)
+    g['clock'].advance(1.0)
+    g['command'].publish(WalkCommand(command=WalkCommand.STOP, start_time=g['clock'].t + 1.5))
+    g['clock'].advance(0.2)
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI, step_length=0.05))
+    g['clock'].advance(4.0)
+    assert g['states'].messages[-1].phase != WalkingState.IDLE
+    plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
+    assert all(p.continuous for p in plans)
+
+
 def test_stop_drops_a_command_stated_for_later(graph):
     g = graph
     g['command'].publish(WalkCommand(command=WalkCommand.OMNI))

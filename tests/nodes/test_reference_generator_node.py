@@ -201,7 +201,7 @@ def test_the_planners_extension_applies_at_its_step_stamp_plus_the_delay(gen):
     g['plan'].publish(extension)
     g['clock'].advance(0.02)
     due = step_start + 0.35
-    assert g['rosout'].has('9 footsteps', f'extends the walk at t={due:.3f}')
+    assert g['rosout'].has('9 footsteps', f'the walk at t={due:.3f}')
     assert not g['rosout'].has('plan 1: extended')
     g['clock'].advance(0.2)
     assert g['rosout'].has('plan 1: extended at')

@@ -1,7 +1,8 @@
 """Which of the planner's extensions a continuous walk's reference must wait for in lockstep.
 
-The planner extends a continuous (teleop) plan as each step from the second one starts, and
-stamps the extension with that step's start; the reference generator splices it in at stamp +
+The planner extends a continuous (teleop) plan as each step from the second one starts (or
+sends the plan of a STOP stated for that step instead), and stamps the extension with that
+step's start; the reference generator splices it in at stamp +
 extension delay. In lockstep nothing else waits for the planner: on a loaded machine an
 extension could come after its splice time and be spliced later, which changes the run. The
 generator therefore holds the reference of a time by which an extension is due until the

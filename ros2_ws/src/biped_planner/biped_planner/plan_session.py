@@ -77,6 +77,8 @@ class PlanSession:
         self._continuous = False
         self._path: Tuple[Tuple[float, float], ...] = ()
         self._goal: Optional[Tuple[AStarPlanner, Pose2D]] = None
+        # (footsteps kept, step width) of the walk's stop: its closing step, None: not stopping
+        self._stop_end: Optional[Tuple[int, float]] = None
 
     @property
     def mode(self) -> PlanMode:
@@ -97,6 +99,7 @@ class PlanSession:
         plan = self._planner.plan_on_map(astar, start, goal)
         self._plan_id += 1
         self._mode = PlanMode.GOTO
+        self._stop_end = None
         self._footsteps = list(plan.footsteps)
         self._continuous = False
         self._path = tuple((float(x), float(y)) for x, y in plan.path)
@@ -112,7 +115,9 @@ class PlanSession:
         A goal walk is planned anew from the adjusted landing to its goal (the translated
         later landings would end the walk off the goal by the adjustment); when no path is
         found from there, the translated landings are kept. A teleop walk steps on from the
-        adjusted footsteps; a stopping walk keeps them.
+        adjusted footsteps; a stopping walk keeps them up to its last step and closes beside
+        it (an adjustment of the plan before the stop, made before the stop was spliced in,
+        has that plan's later steps).
 
         :param plan_id: the adjusted plan; another plan's adjustment changes nothing
         :param step_index: the adjusted step (it lands footsteps[step_index + 2])
@@ -131,7 +136,11 @@ class PlanSession:
             raise InputError(f'the adjustment of step {step_index} changes footsteps before '
                              f'its landing (footsteps[{landing}])')
         self._footsteps = list(footsteps)
-        if self._mode == PlanMode.GOTO and self._goal is not None:
+        if self._stop_end is not None and len(footsteps) > self._stop_end[0] + 1:
+            keep, width = self._stop_end
+            self._footsteps = self._footsteps[:keep] + [closing_footstep(footsteps[keep - 1],
+                                                                         width)]
+        elif self._mode == PlanMode.GOTO and self._goal is not None:
             astar, goal = self._goal
             try:
                 plan = self._planner.plan_from_footsteps(astar, footsteps[:landing + 1], goal)
@@ -159,6 +168,7 @@ class PlanSession:
             self._plan_id += 1
             self._mode = PlanMode.TELEOP
             self._continuous = True
+            self._stop_end = None
             self._path = ()
             self._stepper = OmnidirectionalStepper(start, self._stepper_params,
                                                    self._first_swing)
@@ -225,10 +235,12 @@ class PlanSession:
             self._planner.params.step_width
         already_closed = len(self._footsteps) == keep and self._mode == PlanMode.GOTO
         self._footsteps = kept if already_closed else kept + [closing_footstep(last, width)]
+        self._stop_end = None if already_closed else (keep, width)
         self._mode = PlanMode.NONE
         return self._update()
 
     def walk_finished(self) -> None:
         """The robot stands again: the next command starts a new plan."""
         self._mode = PlanMode.NONE
+        self._stop_end = None
         self._continuous = False

@@ -143,3 +143,24 @@ def test_set_command_without_a_teleop_walk_does_nothing():
     s = session()
     assert not s.set_command(StepCommand(0.1, 0.0, 0.0), 0.6)
     assert s.mode != PlanMode.TELEOP
+
+
+def test_a_stopping_walk_adjusted_on_the_plan_before_its_stop_keeps_its_end():
+    """The step adjuster moved a landing of the plan the references still walked (the stop
+    not yet spliced in): the stop's last step and its closing step stand, from the moved
+    feet."""
+    s = session()
+    plan = s.teleop(StepCommand(0.1, 0.0, 0.0), 0.6, Pose2D(0.0, 0.0))
+    before_stop = s.on_step(2).footsteps
+    stopped = s.stop(2, walking=True)
+    adjusted = moved(before_stop, 4, 0.03, -0.02)  # step 2, the stop's last
+    update = s.adopt_adjustment(plan.plan_id, 2, adjusted)
+    assert not update.continuous and len(update.footsteps) == len(stopped.footsteps)
+    assert update.footsteps[:5] == adjusted[:5]
+    last, closing = update.footsteps[-2:]
+    expected = stopped.footsteps[-1]
+    assert (closing.side, closing.x, closing.y) == \
+        (expected.side, pytest.approx(expected.x + 0.03), pytest.approx(expected.y - 0.02))
+    # an adjustment of the stop plan itself (its closing step) is kept as it is
+    closing_moved = moved(update.footsteps, 5, 0.02, 0.0)
+    assert s.adopt_adjustment(plan.plan_id, 3, closing_moved).footsteps == closing_moved

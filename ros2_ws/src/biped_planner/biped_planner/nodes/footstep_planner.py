@@ -4,12 +4,15 @@ The state machine is the one entry point of user intent (walk_command, goal_pose
 asks this node for plans over the service plan_walk (biped_msgs/PlanWalk: request id, kind,
 command, goal or velocity -> accepted, plan_id, error code), the way nav2's navigator calls its
 planner server. Every plan published answers a request: FootstepPlan.request_id is that
-request's id, or 0 for this node's own extension of a continuous (teleop) plan; an extension
-is stamped with the start of the walking_state phase that asked for it (the reference generator
-times its splice from that). A teleop command (START, OMNI) for a walk under way whose
-start_time is ahead of the clock waits here and steers the steps appended from the first step
-that starts at or after that time (biped_planner.scheduled_commands): a scripted walk then does
-not depend on when its commands arrived. STOP, a goal or a new walk drop the waiting ones.
+request's id, or 0 for this node's own change of a walk at a step: the extension of a
+continuous (teleop) plan, or a stated STOP's plan (below); it is stamped with the start of the
+walking_state phase that asked for it (the reference generator times its splice from that). A
+teleop command (START, OMNI) for a walk under way whose start_time is ahead of the clock waits
+here and steers the steps appended from the first step that starts at or after that time
+(biped_planner.scheduled_commands): a scripted walk then does not depend on when its commands
+arrived. STOP, a goal or a new walk drop the waiting ones. A STOP whose start_time is ahead
+waits here too and is answered at the start of the single support under way at that time
+(biped_planner.stop_step), instead of that step's extension; a START or OMNI command drops it.
 
 Service: plan_walk (biped_msgs/PlanWalk), offered once the start pose is known (odom or
 sole_poses).
@@ -59,6 +62,7 @@ from biped_planner.reference_session import check_footsteps
 from biped_planner.scheduled_commands import ScheduledCommands
 from biped_planner.standing_feet import settled_feet
 from biped_planner.step_timing import StepTiming
+from biped_planner.stop_step import committed_step, stop_due_at
 from biped_planner.walk_command import CommandKind, CommandLimits
 from biped_planner.walking_state_machine import Phase, WALKING_PHASES
 
@@ -80,9 +84,6 @@ MAX_RESOLUTION = 100.0  # m: a map cell larger than this is no map of a walking 
 ODOM_ONLY_AFTER = 1.0  # s of wall time after the first odom: no sole_poses publisher: odom
 ODOM_FALLBACK_AFTER = 5.0  # s: sole_poses announced but none arrived: plan from odom
 REPEAT_WINDOW = 15.0  # s of wall time: a request identical to the last one is its resending
-# The reference generator splices a new plan in at the next double support: from a double
-# support on, or this close before one (s), the next step is committed and a stop ends after it.
-STOP_LEAD = 0.1
 Failure = Optional[Tuple[int, str]]  # (FootstepPlan error code, message), None: success
 
 
@@ -127,6 +128,8 @@ class FootstepPlannerNode(Node):
         self._measured_feet = None  # the newest sole_poses, walking or not
         self._state = None
         self._scheduled = ScheduledCommands()  # teleop commands stated for a later step
+        self._stated_stop = None  # (time s, request id) of a STOP stated for a later step
+        self._single_support_start = None  # s, the walk's newest single support's start
         self._plan_pub = self.create_publisher(FootstepPlan, 'footstep_plan', LATCHED)
         # the reference generator waits for this process's extensions in lockstep while alive
         self._alive = LivelinessToken(self, 'footstep_plan')
@@ -241,6 +244,9 @@ class FootstepPlannerNode(Node):
             return
         previous = self._state
         self._state = msg
+        if msg.phase not in WALKING_PHASES:
+            self._drop_stated_stop('the walk ended')
+            self._single_support_start = None
         if msg.phase == WalkingState.IDLE and previous is not None and \
                 previous.phase in WALKING_PHASES:
             self._session.walk_finished()
@@ -255,6 +261,11 @@ class FootstepPlannerNode(Node):
                     0.0 <= phase_start <= self.get_clock().now().nanoseconds * 1e-9 + 1.0:
                 stamp = time_msg_of(phase_start)
                 self._apply_scheduled(phase_start)
+                if msg.phase == WalkingState.SINGLE_SUPPORT:
+                    self._single_support_start = phase_start
+                    if self._stated_stop_due(phase_start):
+                        self._answer_stated_stop(msg.step_index, stamp)
+                        return
             try:
                 self._publish(self._session.on_step(msg.step_index), stamp=stamp)
             except BipedPlannerError as error:
@@ -325,8 +336,11 @@ class FootstepPlannerNode(Node):
         if command.kind == CommandKind.GOTO:
             return self._goto(Pose2D(*command.goal), rid)
         if command.kind in (CommandKind.START, CommandKind.OMNI):
+            self._drop_stated_stop(f'request {rid} walks on')
             return self._teleop(StepCommand(*command.step), command.step_time, rid, start_time)
-        return self._stop(rid)  # STOP, and RESET: the state machine resets, the plan ends
+        if command.kind == CommandKind.STOP:
+            return self._stop(rid, start_time)
+        return self._stop(rid)  # RESET: the state machine resets, the plan ends
 
     # --- planning ---------------------------------------------------------------------------
     def _walking(self) -> bool:
@@ -402,7 +416,21 @@ class FootstepPlannerNode(Node):
         if dropped:
             self.get_logger().info(f'{dropped} scheduled command(s) dropped: {why}')
 
-    def _stop(self, request_id: int) -> Failure:
+    def _stop(self, request_id: int, start_time: float = 0.0) -> Failure:
+        """End the walk after the step under way, or after the one under way at start_time
+        (s) when that is ahead (answered then, see _answer_stated_stop)."""
+        self._drop_stated_stop(f'request {request_id} stops the walk')
+        if self._walking() and start_time > 0.0:
+            seen = self._single_support_start
+            if seen is None or not stop_due_at(seen, start_time, self._timing.single_support):
+                self._stated_stop = (start_time, request_id)
+                self.get_logger().info(f'request {request_id}: STOP at t={start_time:.3f} s, '
+                                       'answered at the start of the step under way then')
+                return None
+            self.get_logger().warning(f'request {request_id}: STOP for t={start_time:.3f} s '
+                                      'came after the start of the step under way then: the '
+                                      'walk stops from now (a run that may differ from one on '
+                                      'a quieter machine)')
         self._drop_scheduled('stop requested')
         step = self._committed_step()
         try:
@@ -411,16 +439,39 @@ class FootstepPlannerNode(Node):
             return self._fail(error_code_of(error), str(error), request_id)
         return None
 
+    def _stated_stop_due(self, single_support_start: float) -> bool:
+        return self._stated_stop is not None and stop_due_at(
+            single_support_start, self._stated_stop[0], self._timing.single_support)
+
+    def _answer_stated_stop(self, step_index: int, stamp) -> None:
+        """The step starting now is the last before the closing one: the plan that says so
+        is this step's change of the walk (request_id 0, stamped with the step's start), which
+        the reference generator splices in, and waits for, as an extension."""
+        stop_time, request_id = self._stated_stop
+        self._stated_stop = None
+        self._drop_scheduled('the walk stops')
+        try:
+            update = self._session.stop(step_index, True)
+        except BipedPlannerError as error:
+            self._fail(error_code_of(error), str(error), request_id)
+            return
+        self.get_logger().info(f'request {request_id}: the STOP at t={stop_time:.3f} s ends '
+                               f'the walk after step {step_index} and a closing step')
+        self._publish(update, stamp=stamp)
+
+    def _drop_stated_stop(self, why: str) -> None:
+        if self._stated_stop is not None:
+            self.get_logger().info(f'the STOP at t={self._stated_stop[0]:.3f} s (request '
+                                   f'{self._stated_stop[1]}) dropped: {why}')
+            self._stated_stop = None
+
     def _committed_step(self) -> int:
         """The last step the walk takes before a stop's closing step (0 standing)."""
         state = self._state
         if state is None or state.phase not in WALKING_PHASES:
             return 0
-        left = state.phase_duration - state.time_in_phase
-        if state.phase == WalkingState.DOUBLE_SUPPORT or (
-                state.phase == WalkingState.SINGLE_SUPPORT and left < STOP_LEAD):
-            return state.step_index + 1
-        return state.step_index
+        return committed_step(state.step_index, state.phase == WalkingState.DOUBLE_SUPPORT,
+                              state.phase_duration - state.time_in_phase)
 
     def _publish(self, update, request_id: int = 0, stamp=None) -> None:
         if update is None:

@@ -32,11 +32,12 @@ a tick whose reference has not gone out that way (no controller yet) still sends
 that comes before this node's first /clock (across a link the two arrive in either order) is
 answered when the clock comes.
 
-The planner's own extension of a walk (request_id 0) is stamped with the start of the step that
-asked for it, and its plan after a step adjustment with the adjustment's time; each is spliced
-in from the first reference at or after stamp + extension_delay, in the order of their times,
-so a run does not depend on when the message got through; one that comes later is spliced in at
-once and logged as late. The reference of period t answers the balance_estimate of t - 1 and no
+The planner's own change of a walk at a step (request_id 0: its extension, or the plan of a
+STOP stated for a later time) is stamped with the start of the step that asked for it, and its
+plan after a step adjustment with the adjustment's time; each is spliced in from the first
+reference at or after stamp + extension_delay, in the order of their times, so a run does not
+depend on when the message got through; one that comes later is spliced in at once and logged
+as late. The reference of period t answers the balance_estimate of t - 1 and no
 later one (see _answer_balance_estimates). On sim time the reference of a time by which a
 continuous walk's extension is due (and any walk's, after a step adjustment) waits for it
 (biped_planner.extension_wait; the controller and, in lockstep, the simulator wait with it)
@@ -398,8 +399,9 @@ class ReferenceGeneratorNode(Node):
                                                              msg.plan_id, stamp)
         self._send_held()  # the reference waiting for it goes out now, if it may
         if done == 'queued':
+            change = 'extends' if msg.continuous else 'changes'  # a stop, an adjusted walk
             self.get_logger().info(f'plan {msg.plan_id} ({len(msg.footsteps)} footsteps): '
-                                   f'extends the walk at t={apply_at:.3f} s')
+                                   f'{change} the walk at t={apply_at:.3f} s')
             return
         # spliced into the reference of its own stated period is on time (not "0.000 s late")
         late = '' if apply_at is None or done != 'extended' or apply_at > t_out - 1e-6 else \

@@ -99,7 +99,8 @@ class StateMachineNode(Node):
         self._watch = InputWatch(STREAMS, (PLAN,), self.get_parameter('input_timeout').value,
                                  '/clock' if sim_time else None, ('odom',))
         self._stale = ()
-        self._scheduled_stop = None  # (sim time, WalkCommand) of a STOP with a start_time
+        # (sim time, WalkCommand, told the planner) of a STOP with a start_time
+        self._scheduled_stop = None
         self._teleop = TeleopGate()  # the walk cmd_vel drives, and its timeout
         self._odometry = PoseStream('odom', self.get_parameter('odom_frame').value)
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
@@ -210,8 +211,14 @@ class StateMachineNode(Node):
                 return
             self._drop_scheduled_stop('a new STOP came')
             if stop_time > now and self._walking():
-                # a scripted trial's stop: applied at its stated time, as if it arrived then
-                self._scheduled_stop = (stop_time, msg)
+                # a scripted trial's stop: applied at its stated time, as if it arrived then;
+                # a planner ending the walk gets it now, to answer it at the step under way then
+                planned = self._plan is not None and self.planner_available()
+                self._scheduled_stop = (stop_time, msg, planned)
+                if planned:
+                    self._call_planner(self._requests.new(
+                        RequestKind.COMMAND, CommandKind.STOP, False, False,
+                        time.monotonic())[0], command=msg)
                 self.get_logger().info(f'STOP scheduled for t={stop_time:.3f} s')
             else:
                 self._publish_transitions(self._stop(now, 'stop requested', msg), now)
@@ -224,9 +231,9 @@ class StateMachineNode(Node):
             except CommandError as error:
                 self._answer(kind, CommandStatus.INVALID_VALUE, str(error))
                 return
-            self._drop_scheduled_stop(f'a {kind.name} command came')
-            self._request_walk(now, kind, RequestKind.COMMAND, start_time=start_time,
-                               command=msg)
+            if self._request_walk(now, kind, RequestKind.COMMAND, start_time=start_time,
+                                  command=msg):
+                self._drop_scheduled_stop(f'a {kind.name} command came')
 
     def _on_goal(self, msg: PoseStamped) -> None:
         """A goal pose (the RViz convention) starts a walk to it, once the planner's plan for
@@ -259,11 +266,14 @@ class StateMachineNode(Node):
                                    'idle', throttle_duration_sec=2.0)
 
     def _request_walk(self, now: float, user_command: int, kind: RequestKind,
-                      start_time: float = 0.0, **content) -> None:
+                      start_time: float = 0.0, **content) -> bool:
         """Start or steer a walk: through the planner (once discovered, within
         planner_timeout: whether it is discovered yet at startup must not change the walk), or
         in place without one (use_planner false). A walk that starts begins at start_time, or
-        when its plan arrives if that is later."""
+        when its plan arrives if that is later.
+
+        :return: whether the request went on (False: refused here, and answered)
+        """
         walking = self._walking()
         planner = self._use_planner
         refusal = walk_request_refusal(
@@ -272,7 +282,7 @@ class StateMachineNode(Node):
             self._machine.status.stop_requested)
         if refusal is not None:
             self._answer(user_command, CommandStatus.NOT_ALLOWED, refusal)
-            return
+            return False
         if not planner:
             if not walking:
                 self._machine.set_plan(None)  # in place, until stopped
@@ -280,13 +290,14 @@ class StateMachineNode(Node):
             self._publish_transitions(self._machine.request_start(max(now, start_time)), now)
             self._teleop.driving = kind == RequestKind.VELOCITY
             self._answer(user_command, CommandStatus.OK)
-            return
+            return True
         request, superseded = self._requests.new(kind, user_command, not walking, True,
                                                  time.monotonic(), start_time)
         if superseded is not None and superseded.answer_owed:
             self._answer(superseded.command, CommandStatus.NOT_ALLOWED,
                          f'superseded by request {request.request_id} before its plan arrived')
         self._call_planner(request, **content)
+        return True
 
     def _call_planner(self, request, **content) -> None:
         """Send now, or once the service is discovered (within planner_timeout)."""
@@ -331,9 +342,12 @@ class StateMachineNode(Node):
             self._answer(request.command, status, f'planner (request {request.request_id}): '
                          f'{text}' + (f' (FootstepPlan error {code})' if code else ''))
 
-    def _stop(self, now: float, reason: str, command: WalkCommandMsg = None):
+    def _stop(self, now: float, reason: str, command: WalkCommandMsg = None,
+              planner_told: bool = False):
         """End the walk after the current step and a closing one (the planner's stop plan);
         a walk waiting for its plan does not start.
+
+        :param planner_told: the planner has this stop already (a STOP with a start_time)
 
         :return: the transitions
         """
@@ -348,7 +362,7 @@ class StateMachineNode(Node):
             now, reason, unplanned=walking and self._plan is not None and not planner)
         if not transitions and self._machine.status != before:
             self._publish(self._machine.status, now)  # the stop and its reason are news now
-        if planner and (walking or cancelled is not None):
+        if planner and (walking or cancelled is not None) and not planner_told:
             request, _ = self._requests.new(
                 RequestKind.COMMAND if command is not None else RequestKind.CANCEL,
                 CommandKind.STOP, False, False, time.monotonic())
@@ -518,10 +532,10 @@ class StateMachineNode(Node):
         transitions = self._machine.update(now)
         self._publish_transitions(transitions, now)
         if self._scheduled_stop is not None and now >= self._scheduled_stop[0]:
-            _, command = self._scheduled_stop
+            _, command, planner_told = self._scheduled_stop
             self._scheduled_stop = None
             if self._walking():
-                transitions = self._stop(now, 'scheduled stop', command)
+                transitions = self._stop(now, 'scheduled stop', command, planner_told)
                 self._publish_transitions(transitions, now)
         if not transitions and (self._last_publish is None or now < self._last_publish or
                                 now - self._last_publish >= self._publish_period):

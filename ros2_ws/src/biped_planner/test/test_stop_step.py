@@ -1,0 +1,44 @@
+import pytest
+
+from biped_planner.stop_step import committed_step, STOP_LEAD, stop_due_at
+
+SINGLE, DOUBLE = 0.3, 0.1  # s: the paper's step timing
+
+
+@pytest.mark.parametrize('double_support, time_left, expected', [
+    (False, 0.3, 4), (False, STOP_LEAD, 4), (False, STOP_LEAD - 1e-9, 5), (False, 0.0, 5),
+    (True, 0.1, 5), (True, 0.0, 5)])
+def test_the_next_step_is_committed_in_a_double_support_and_late_in_a_single_one(
+        double_support, time_left, expected):
+    assert committed_step(4, double_support, time_left) == expected
+
+
+def state_at(t: float, walk_start: float):
+    """(step_index, double support, time left in the phase) of a walk of single then double
+    supports from walk_start: a step counts as completed at the end of its double support."""
+    k, into = divmod(t - walk_start, SINGLE + DOUBLE)
+    if into < SINGLE:
+        return int(k), False, SINGLE - into
+    return int(k), True, SINGLE + DOUBLE - into
+
+
+@pytest.mark.parametrize('walk_start', [0.0, 12.345])
+def test_a_stated_stop_ends_the_walk_after_the_step_a_stop_arriving_at_its_time_would(
+        walk_start):
+    """Answered at the first single support start it is due at, the step that single support
+    begins is the one the rule for a stop arriving at the stated time commits (nominal timing,
+    every 5 ms over six steps)."""
+    for i in range(1, 480):
+        stop_time = walk_start + 0.005 * i + 1e-4  # off the phase boundaries by 0.1 ms
+        starts = [walk_start + k * (SINGLE + DOUBLE) for k in range(12)]
+        answered = next(k for k, start in enumerate(starts)
+                        if stop_due_at(start, stop_time, SINGLE))
+        assert starts[answered] <= stop_time + SINGLE, 'answered after its step ended'
+        assert answered == committed_step(*state_at(stop_time, walk_start)), stop_time
+
+
+def test_a_stop_stated_at_a_single_support_start_is_due_at_it_despite_float_rounding():
+    start = 20.0 + 3 * 0.4  # not exactly representable; stamps are whole nanoseconds
+    assert stop_due_at(start - 4e-7, start, SINGLE)
+    assert stop_due_at(start, start + SINGLE - STOP_LEAD, SINGLE)
+    assert not stop_due_at(start, start + SINGLE - STOP_LEAD + 1e-5, SINGLE)
