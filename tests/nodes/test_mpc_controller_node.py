@@ -518,3 +518,19 @@ def call(g, srv_type, name, request, timeout=10.0):
     future = client.call_async(request)
     assert spin_until(g['executor'], future.done, timeout)
     return future.result()
+
+
+def test_a_controller_that_never_gets_joint_states_says_so_and_whether_a_publisher_exists(
+        ros_context, executor):
+    executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True), Parameter('startup_sensor_patience', value=0.3)]))
+    client = executor.track(rclpy.create_node('silent_simulator', context=ros_context))
+    rosout = RosoutLines(client)
+    assert spin_until(executor, lambda: rosout.has('[mpc_controller]', 'no joint_states in',
+                                                   'no simulator found'), 10.0), \
+        rosout.lines[-5:]
+    silent = client.create_publisher(JointState, 'joint_states', 10)  # never publishes
+    assert wait_for_subscribers(executor, silent, timeout=15)
+    assert spin_until(executor, lambda: rosout.has('[mpc_controller]', '1 publisher(s), none '
+                                                   'of whose messages arrived'), 10.0), \
+        rosout.lines[-5:]

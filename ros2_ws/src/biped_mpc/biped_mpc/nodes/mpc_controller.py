@@ -34,7 +34,9 @@ Safety (biped_mpc.safe_stance, biped_mpc.input_bounds):
   the sensors' range, quaternions that are not unit): a refused one is logged and the previous
   valid one kept; when a sensor has had no valid message for sensor_timeout the controller
   holds the safe stance (HOLDING, naming it). No joint_states for sensor_loss_timeout of wall
-  time (the simulator is gone): HOLDING reported, naming joint_states.
+  time (the simulator is gone): HOLDING reported, naming joint_states. None at all for
+  startup_sensor_patience after the start: the log says so every 5 s, with how many publishers
+  joint_states has (none: no simulator found; some: their messages do not arrive).
 - walking_state.epoch changed (the state machine reset the robot): once the robot stands
   still on both feet, the estimate, stance and commanded state restart from the sensors, the
   old references are dropped, and the controller stands until a reference fits its feet.
@@ -130,6 +132,9 @@ class MpcControllerNode(Node):
                                'hold a stance (s)', (0.0, 10.0)),
             'sensor_loss_timeout': (0.5, 'wall time without joint_states after which it reports '
                                     'the simulator lost (s)', (0.05, 60.0)),
+            'startup_sensor_patience': (10.0, 'wall time after the start without any '
+                                        'joint_states after which the log says no cycle runs '
+                                        'for want of them (s)', (0.1, 600.0)),
             'foot_length': (0.2, 'sole length, for the standing stance (m)', (0.01, 1.0)),
             'foot_width': (0.1, 'sole width, for the standing stance (m)', (0.01, 1.0)),
             **{f'frames.{name}': (value, f'expected frame_id of the {name} data', None)
@@ -175,6 +180,7 @@ class MpcControllerNode(Node):
         self._period = None  # stamp (sec, nanosec) of the newest joint_states
         self._poll_deadline = None
         self._joint_states_arrival = None
+        self._created = time.monotonic()
         self._last_cycle = None
         self._pending = None  # sensor time (s) of a complete period not yet computed
         self._last_output = None
@@ -376,8 +382,17 @@ class MpcControllerNode(Node):
         self._try_cycle(force=True)
 
     def _on_watchdog(self) -> None:
-        """Report the simulator lost when joint_states stop (no cycle runs without them)."""
+        """Report the simulator lost when joint_states stop (no cycle runs without them), and
+        say so when none has come since the start."""
         if self._joint_states_arrival is None:
+            waited = time.monotonic() - self._created
+            if waited >= self.get_parameter('startup_sensor_patience').value:
+                publishers = self.count_publishers('joint_states')
+                why = 'no simulator found' if publishers == 0 else \
+                    f'{publishers} publisher(s), none of whose messages arrived'
+                self.get_logger().warning(f'no joint_states in {waited:.1f} s since the start '
+                                          f'({why}): no control cycle runs until they come',
+                                          throttle_duration_sec=5.0)
             return
         silent = time.monotonic() - self._joint_states_arrival
         timeout = self.get_parameter('sensor_loss_timeout').value
