@@ -71,6 +71,7 @@ from rclpy.time import Time
 from sensor_msgs.msg import JointState
 
 from biped_planner.errors import BipedPlannerError
+from biped_planner.estimate_order import ESTIMATE_WAIT, EstimateOrder
 from biped_planner.extension_wait import awaited_extension
 from biped_planner.footsteps import feet_beside
 from biped_planner.input_watch import InputWatch
@@ -103,11 +104,6 @@ DIAGNOSTICS_PERIOD = 1.0  # s of wall time
 MAX_STAMP_LEAD = 1.0  # s: a joint command or walk start farther ahead of the clock is refused
 # s of wall time before a reference generator with no feet to stand on says so
 STANDING_PATIENCE = 5.0
-# s of wall time a reference waits for the balance_estimate of the period before it, when the
-# one of the period before that came: the controller sends it before its joint command, but DDS
-# does not order two topics, and on a loaded machine it can come second (the step adjuster would
-# then answer it a period later in one run than in another)
-ESTIMATE_WAIT = 0.02
 
 
 class ExtensionWait(NamedTuple):
@@ -214,8 +210,6 @@ class ReferenceGeneratorNode(Node):
         # (plan_id, stamp s) of the newest step extension since this node's latest adjustment
         self._refreshed_extension = None
         self._adjustments = (None, [])  # (plan_id, stamps s) of this node's adjustments
-        self._estimate_ns = -1  # stamp of the newest balance_estimate answered (ns)
-        self._later_estimates = []  # taken before their reference: answered with it
         self._waiting: Optional[ExtensionWait] = None
         # an extension did not come in extension_wait: no more waits until one comes in time
         # (a live but hung planner would otherwise cost that much wall time at every step)
@@ -232,6 +226,7 @@ class ReferenceGeneratorNode(Node):
         self._subscribe_soles()
         self._soles_seen = False
         self._period_ns = int(round(1e9 / float(get('rate'))))
+        self._estimates = EstimateOrder(self._period_ns)  # balance_estimate, in stamp order
         self._sent_ns = None  # stamp of the newest reference sent
         self._held_ns = None  # the clock at the last wall-clock check (_on_held_clock)
         # a joint command that came before any /clock (across a link the two arrive in either
@@ -262,38 +257,19 @@ class ReferenceGeneratorNode(Node):
 
     def _answer_balance_estimates(self, expected_ns: int) -> None:
         """Answer the estimates stamped up to expected_ns (the period before the reference's),
-        first waiting (ESTIMATE_WAIT at most) for the one stamped expected_ns if the one of the
-        period before came; a later one (the controller can estimate the next period before
-        this reference goes out) waits for the next reference."""
-        reader = self._balance_reader
-        if reader is None:
+        waiting a little for that one (biped_planner.estimate_order)."""
+        if self._balance_reader is None:
             return
-        messages = self._later_estimates + reader.take_all()
-
-        def arrived() -> bool:
-            return any(nanoseconds_of(m.header.stamp) >= expected_ns for m in messages)
-        if self._estimate_ns == expected_ns - self._period_ns and not arrived():
-            deadline = time.monotonic() + ESTIMATE_WAIT
-            while not arrived() and time.monotonic() < deadline:
-                time.sleep(0.0002)
-                messages += reader.take_all()
-            if not arrived():
-                self.get_logger().warning(
-                    f'the balance estimate of t={expected_ns * 1e-9:.3f} s did not come within '
-                    f'{ESTIMATE_WAIT * 1e3:.0f} ms of wall time: the step adjuster answers it '
-                    'with a later reference (this run may differ from one on a quieter '
-                    'machine)', throttle_duration_sec=2.0)
-        # the controller's next periods wait; any other stamp is answered (or refused) now
-        horizon = expected_ns + 2 * self._period_ns
-
-        def later(msg) -> bool:
-            return expected_ns < nanoseconds_of(msg.header.stamp) <= horizon
-        self._later_estimates = [m for m in messages if later(m)]
-        for msg in messages:
-            if not later(msg):
-                self._estimate_ns = max(self._estimate_ns,
-                                        min(nanoseconds_of(msg.header.stamp), expected_ns))
-                self._on_balance(msg)
+        answered, missed = self._estimates.take(
+            expected_ns, self._balance_reader.take_all, lambda m: nanoseconds_of(m.header.stamp))
+        if missed:
+            self.get_logger().warning(
+                f'the balance estimate of t={expected_ns * 1e-9:.3f} s did not come within '
+                f'{ESTIMATE_WAIT * 1e3:.0f} ms of wall time: the step adjuster answers it '
+                'with a later reference (this run may differ from one on a quieter '
+                'machine)', throttle_duration_sec=2.0)
+        for msg in answered:
+            self._on_balance(msg)
 
     def _on_balance(self, msg: BalanceEstimate) -> None:
         """The controller's balance estimate: the step adjuster answers it."""
@@ -447,7 +423,7 @@ class ReferenceGeneratorNode(Node):
         self._session = self._new_session()
         self._adjustments = (None, [])
         self._refreshed_extension = None
-        self._estimate_ns, self._later_estimates = -1, []  # the clock went back
+        self._estimates.restart()  # the clock went back
         self._standing = None
         self._soles_seen = False
         self._subscribe_soles()
