@@ -66,6 +66,9 @@ def walk(busy_processes: int, domain_id: int, overrides=None, push=None,
             lambda: session.send_command(start_time=START, **dict(command)))
         assert plan is not None and plan.status == 0, plan
         if stop_at is not None:
+            # once the walk is under way (Initialize, phased at START): a STOP that reaches the
+            # state machine before the walk's plan stops at once and the walk does not start
+            assert session.spin_until(lambda: session.phase() == WalkingState.INITIALIZE, 30)
             session.send_command(command=WalkCommand.STOP, start_time=stop_at)
         arrived = session.sim_time()
         assert arrived < START - HORIZON, f'the plan came at t={arrived:.2f} s'

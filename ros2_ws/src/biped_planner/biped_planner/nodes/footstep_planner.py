@@ -244,7 +244,8 @@ class FootstepPlannerNode(Node):
             return
         previous = self._state
         self._state = msg
-        if msg.phase not in WALKING_PHASES:
+        if msg.phase not in WALKING_PHASES and previous is not None and \
+                previous.phase in WALKING_PHASES:
             self._drop_stated_stop('the walk ended')
             self._single_support_start = None
         if msg.phase == WalkingState.IDLE and previous is not None and \
@@ -420,7 +421,9 @@ class FootstepPlannerNode(Node):
         """End the walk after the step under way, or after the one under way at start_time
         (s) when that is ahead (answered then, see _answer_stated_stop)."""
         self._drop_stated_stop(f'request {request_id} stops the walk')
-        if self._walking() and start_time > 0.0:
+        # held whenever a walk has its plan: the state machine sends it once the walk started,
+        # and this node can have that walking_state still on its way
+        if start_time > 0.0 and self._session.mode != PlanMode.NONE:
             seen = self._single_support_start
             if seen is None or not stop_due_at(seen, start_time, self._timing.single_support):
                 self._stated_stop = (start_time, request_id)
