@@ -22,7 +22,7 @@ from biped_planner.nodes.footstep_planner import FootstepPlannerNode
 from biped_planner.nodes.reference_generator import ReferenceGeneratorNode
 from biped_planner.nodes.state_machine import StateMachineNode
 from biped_planner.walking_state_machine import EARLY_REASON
-from ros_harness import Collector, SimClock, spin_until, wait_for_subscribers
+from ros_harness import Collector, RosoutLines, SimClock, spin_until, wait_for_subscribers
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
@@ -326,6 +326,34 @@ def test_a_stop_stated_for_a_later_time_ends_the_walk_after_the_step_under_way_t
     assert len(stop_plan.footsteps) == last_step + 4
     assert max(starts) == last_step + 1 and states[-1].step_index == last_step + 2
     assert not any(s.stop_requested for s in states if stamp_s(s) < stated - 1e-6)
+
+
+def test_a_stated_stop_that_overtakes_the_walks_first_walking_state_is_held(graph):
+    """The state machine sends a stated STOP once its walk started; the planner's walking_state
+    showing that walk can come later. The planner holds the STOP for the plan it has (here
+    asked for directly: no walking_state shows a walk at all) instead of ending it."""
+    g = graph
+    rosout = RosoutLines(g['client'])
+    start = PlanWalk.Request(request_id=41, kind=PlanWalk.Request.KIND_COMMAND,
+                             command=WalkCommand(command=WalkCommand.START))
+    started = call_plan_walk(g, start)
+    assert started.accepted
+    stop = PlanWalk.Request(request_id=42, kind=PlanWalk.Request.KIND_COMMAND,
+                            command=WalkCommand(command=WalkCommand.STOP,
+                                                start_time=g['clock'].t + 2.0))
+    plans = len(g['plans'].messages)
+    assert call_plan_walk(g, stop).accepted
+    assert spin_until(g['executor'], lambda: rosout.has(
+        '[footstep_planner]', 'request 42: STOP at', 'answered at the start of the step'), 5.0)
+    g['clock'].advance(0.2)
+    assert not any(not p.continuous for p in g['plans'].messages[plans:])  # no stop plan yet
+    # the plan goes on: a walk command steers it (same plan) and drops the held STOP
+    steered = call_plan_walk(g, PlanWalk.Request(
+        request_id=43, kind=PlanWalk.Request.KIND_COMMAND,
+        command=WalkCommand(command=WalkCommand.OMNI, step_length=0.05)))
+    assert steered.accepted and steered.plan_id == started.plan_id
+    assert spin_until(g['executor'], lambda: rosout.has(
+        '[footstep_planner]', '(request 42) dropped: request 43 walks on'), 5.0)
 
 
 def test_a_stop_stated_too_late_for_its_step_stops_the_walk_at_once(graph):

@@ -358,6 +358,7 @@ class FootstepPlannerNode(Node):
             return self._fail(FootstepPlan.ERROR_INVALID_COMMAND,
                               'GOTO while walking: send STOP first, then the goal', request_id)
         self._drop_scheduled('a goal was given')
+        self._drop_stated_stop('a goal was given')
         try:
             update = self._session.goto(self._astar, self._pose, goal)
         except BipedPlannerError as error:
@@ -388,6 +389,7 @@ class FootstepPlannerNode(Node):
                                       'differ from one on a quieter machine)')
         if not self._walking():
             self._drop_scheduled('a new walk starts')
+            self._drop_stated_stop('a new walk starts')
         if self._pose is None and self._session.mode != PlanMode.TELEOP:
             return self._fail(FootstepPlan.ERROR_NO_POSE, 'no odometry received on odom',
                               request_id)
