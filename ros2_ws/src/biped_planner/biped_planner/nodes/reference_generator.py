@@ -32,18 +32,17 @@ a tick whose reference has not gone out that way (no controller yet) still sends
 that comes before this node's first /clock (across a link the two arrive in either order) is
 answered when the clock comes.
 
-The planner's own change of a walk at a step (request_id 0: its extension, or the plan of a
-STOP stated for a later time) is stamped with the start of the step that asked for it, and its
-plan after a step adjustment with the adjustment's time; each is spliced in from the first
-reference at or after stamp + extension_delay, in the order of their times, so a run does not
-depend on when the message got through; one that comes later is spliced in at once and logged
-as late. The reference of period t answers the balance_estimate of t - 1 and no
-later one (see _answer_balance_estimates). On sim time the reference of a time by which a
-continuous walk's extension is due (and any walk's, after a step adjustment) waits for it
-(biped_planner.extension_wait; the controller and, in lockstep, the simulator wait with it)
-while the planner's process is alive (DDS liveliness of footstep_plan/alive), at most
-extension_wait s of wall time, and not once the clock has passed that time (a simulator in
-real time).
+The planner's own change of a walk at a step (request_id 0: its extension, or the plan of a STOP
+stated for a later time) is stamped with the start of the step that asked for it, and its plan
+after a step adjustment with the adjustment's time; each is spliced in from the first reference at
+or after stamp + extension_delay, in the order of their times, so a run does not depend on when the
+message got through; one that comes later is spliced in at once and logged as late. The reference
+of period t answers the balance_estimate of t - 1 and no later one (see _answer_balance_estimates).
+On sim time the reference of a time by which a continuous walk's extension is due (and any walk's,
+after a step adjustment) waits for it (biped_planner.extension_wait; the controller and, in
+lockstep, the simulator wait with it) while the planner's process is alive (DDS liveliness of
+footstep_plan/alive), at most extension_wait s of wall time, and not once the clock has passed that
+time (a simulator in real time).
 
 A new walking_state.epoch (the state machine reset the robot) drops the walk, its plan and the
 standing feet: the references stand where the controller's sole_poses put the feet again. An
