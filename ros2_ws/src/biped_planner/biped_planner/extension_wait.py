@@ -1,17 +1,16 @@
 """Which of the planner's extensions a continuous walk's reference must wait for in lockstep.
 
-The planner extends a continuous (teleop) plan as each step from the second one starts (or
-sends the plan of a STOP stated for that step instead), and stamps the extension with that
-step's start; the reference generator splices it in at stamp +
-extension delay. In lockstep nothing else waits for the planner: on a loaded machine an
-extension could come after its splice time and be spliced later, which changes the run. The
-generator therefore holds the reference of a time by which an extension is due until the
-extension has come (or the planner is gone). The same holds for the plan the planner publishes
-after a step adjustment (any walk: a teleop walk steps on from the adjusted landing, a goal walk
-is planned anew to its goal), stamped with the adjustment's time. A step's extension that came
-before an adjustment made while it waited for its splice is dropped then (it lacks the moved
-landing), and the planner sends it again: that one is awaited too. Pure Python, time is an
-argument.
+The planner extends a continuous (teleop) plan as each step from the second one starts (or sends
+the plan of a STOP stated for that step instead), and stamps the extension with that step's
+start; the reference generator splices it in at stamp + extension delay. In lockstep nothing
+else waits for the planner: on a loaded machine an extension could come after its splice time
+and be spliced later, which changes the run. The generator therefore holds the reference of a
+time by which an extension is due until the extension has come (or the planner is gone). The
+same holds for the plan the planner publishes after a step adjustment (any walk: a teleop walk
+steps on from the adjusted landing, a goal walk is planned anew to its goal), stamped with the
+adjustment's time. A step's extension that came before an adjustment made while it waited for
+its splice is dropped then (it lacks the moved landing), and the planner sends it again: that
+one is awaited too. Pure Python, time is an argument.
 """
 from typing import Optional, Sequence
 

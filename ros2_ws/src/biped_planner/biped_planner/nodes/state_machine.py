@@ -216,9 +216,7 @@ class StateMachineNode(Node):
                 planned = self._plan is not None and self.planner_available()
                 self._scheduled_stop = (stop_time, msg, planned)
                 if planned:
-                    self._call_planner(self._requests.new(
-                        RequestKind.COMMAND, CommandKind.STOP, False, False,
-                        time.monotonic())[0], command=msg)
+                    self._ask_planner_to_stop(msg)
                 self.get_logger().info(f'STOP scheduled for t={stop_time:.3f} s')
             else:
                 self._publish_transitions(self._stop(now, 'stop requested', msg), now)
@@ -363,11 +361,15 @@ class StateMachineNode(Node):
         if not transitions and self._machine.status != before:
             self._publish(self._machine.status, now)  # the stop and its reason are news now
         if planner and (walking or cancelled is not None) and not planner_told:
-            request, _ = self._requests.new(
-                RequestKind.COMMAND if command is not None else RequestKind.CANCEL,
-                CommandKind.STOP, False, False, time.monotonic())
-            self._call_planner(request, command=command)
+            self._ask_planner_to_stop(command)
         return transitions
+
+    def _ask_planner_to_stop(self, command: WalkCommandMsg = None) -> None:
+        """A STOP for the planner: the user's command (its start_time with it), or a cancel."""
+        request, _ = self._requests.new(
+            RequestKind.COMMAND if command is not None else RequestKind.CANCEL,
+            CommandKind.STOP, False, False, time.monotonic())
+        self._call_planner(request, command=command)
 
     def _drop_scheduled_stop(self, why: str) -> None:
         if self._scheduled_stop is not None:
