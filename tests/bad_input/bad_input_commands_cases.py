@@ -262,6 +262,8 @@ WALKING_STATE = [  # readers: the planner (phase, step), references (phase, time
     ('time_in_phase inf', 'inf', setting('time_in_phase', INF), (REFERENCES,)),
     ('phase_duration -1 s', 'bounds', setting('phase_duration', -1.0), (REFERENCES,)),
     ('walk_start_time 1e30', 'huge', setting('walk_start_time', HUGE), (REFERENCES,)),
+    ('stop_time NaN', 'nan', setting('stop_time', NAN), (REFERENCES,)),
+    ('stop_time -1 s', 'bounds', setting('stop_time', -1.0), (REFERENCES,)),
     ('epoch + 1 while walking', 'state', mutated(next_epoch), (REFERENCES, CONTROLLER)),
 ]
 

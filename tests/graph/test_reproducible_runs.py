@@ -36,6 +36,7 @@ OPEN_LOOP = {'mpc_controller': ['balance:=open_loop', 'swing_target:=masses',
                                 'swing_smoothing_time_constant:=0.0']}
 PUSH = (0.0, 150.0, START + 2.0)  # N, N, s: sideways, 2 s into the walk (a single support)
 GOAL_WALK = (('command', 2), ('goal_x', 1.5))  # GOTO: the planner plans anew after adjustments
+GOAL_STOP = 3.05  # s into the goal walk: a stated STOP after the push's step adjustment
 
 
 @contextmanager
@@ -97,11 +98,16 @@ def test_a_walk_in_place_to_a_stated_stop_is_the_same_quiet_and_under_two_busy_l
 def test_a_goal_walk_replanned_after_a_step_adjustment_is_the_same_quiet_and_loaded():
     """A push answered by the step adjuster: the planner plans the goal walk anew from the
     adjusted landing and publishes it stamped with the adjustment, and the reference generator
-    splices it in at that time plus extension_delay (waiting for it in lockstep): the same path
-    on a quiet and on a loaded machine."""
-    _, quiet, replans, _ = walk(0, domain_id_for_worker(), ADJUSTING, PUSH, GOAL_WALK)
-    _, loaded, _, _ = walk(2, domain_id_for_worker() + 2, ADJUSTING, PUSH, GOAL_WALK)
+    splices it in at that time plus extension_delay (waiting for it in lockstep); then a STOP
+    stated ahead, which the planner answers at a step of the goal walk (not extended: the
+    generator waits for that step's change because walking_state announced the STOP). The
+    same path on a quiet and on a loaded machine, and the same end."""
+    _, quiet, replans, quiet_end = walk(0, domain_id_for_worker(), ADJUSTING, PUSH, GOAL_WALK,
+                                        stop_at=START + GOAL_STOP)
+    _, loaded, _, loaded_end = walk(2, domain_id_for_worker() + 2, ADJUSTING, PUSH, GOAL_WALK,
+                                    stop_at=START + GOAL_STOP)
     assert replans >= 1, 'the push was not answered by a step adjustment'
+    assert quiet_end == loaded_end and quiet_end is not None and quiet_end < START + WALK - 0.2
     assert_same_paths(quiet, loaded)
 
 

@@ -326,6 +326,13 @@ def test_a_stop_stated_for_a_later_time_ends_the_walk_after_the_step_under_way_t
     assert len(stop_plan.footsteps) == last_step + 4
     assert max(starts) == last_step + 1 and states[-1].step_index == last_step + 2
     assert not any(s.stop_requested for s in states if stamp_s(s) < stated - 1e-6)
+    # walking_state says when the walk stops, from the STOP's arrival until the walk ended (the
+    # reference generator waits for the stop's plan at that step)
+    told = [s for s in states if s.stop_time > 0.0]
+    assert told and all(abs(s.stop_time - stated) < 1e-6 for s in told)
+    assert all(s.stop_time > 0.0 for s in states[states.index(told[0]):-1]
+               if s.phase != WalkingState.IDLE)
+    assert states[-1].stop_time == 0.0
 
 
 def test_a_stated_stop_that_overtakes_the_walks_first_walking_state_is_held(graph):
@@ -387,6 +394,8 @@ def test_a_walk_command_drops_a_stop_stated_for_later(graph):
     g['command'].publish(WalkCommand(command=WalkCommand.OMNI, step_length=0.05))
     g['clock'].advance(4.0)
     assert g['states'].messages[-1].phase != WalkingState.IDLE
+    assert any(s.stop_time > 0.0 for s in g['states'].messages)
+    assert g['states'].messages[-1].stop_time == 0.0  # the generator waits for no stop plan
     plans = [p for p in g['plans'].messages if p.plan_id == first.plan_id]
     assert all(p.continuous for p in plans)
 

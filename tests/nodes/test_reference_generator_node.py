@@ -333,6 +333,89 @@ def test_without_a_live_planner_a_reference_does_not_wait(gen):
     assert not g['rosout'].has('waits for the planner')
 
 
+def announce_stop(g, stop_time: float, announced: float) -> None:
+    """The state machine's walking_state once it scheduled a STOP for stop_time (s) and told
+    the planner, stamped with when it did (s)."""
+    msg = WalkingState(phase=WalkingState.SINGLE_SUPPORT, plan_id=1, stop_time=stop_time,
+                       walk_start_time=g['walk_start'])
+    msg.header.stamp = time_msg_of(announced)
+    g['state'].publish(msg)
+    spin_until(g['executor'], lambda: False, 0.1)
+
+
+def test_in_lockstep_a_goal_walk_waits_for_the_plan_answering_a_stop_stated_ahead(gen):
+    """A goal walk's steps are not extended, so nothing else waits for the planner in it; the
+    planner answers a STOP stated ahead at the start of the step under way at its time
+    (biped_planner.stop_step), with a change stamped with that start: the reference due by
+    then waits for it, whenever it comes. A STOP it learnt of less than a period before that
+    step is answered on arrival by the planner, and is not waited for."""
+    import re
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = gen
+    token = LivelinessToken(g['client'], 'footstep_plan')
+    g['commands'] = g['client'].create_publisher(JointState, 'joint_commands', 10)
+    assert wait_for_subscribers(g['executor'], g['commands'], timeout=15)
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
+    plan.request_id = 1  # a goal walk's plan: not continuous
+    g['plan'].publish(plan)
+    g['walk_start'] = g['clock'].t
+    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
+    g['clock'].advance(1.0)
+    assert not g['rosout'].has('extension stamped'), 'a goal walk waited for an extension'
+    # a STOP 2 s ahead, told while the clock runs (no lockstep: walked on, and logged)
+    stated = round(g['clock'].t + 2.0, 3)
+    announce_stop(g, stated, g['clock'].t)
+    g['clock'].advance(2.6)
+    passed = [float(re.search(r'extension stamped t=([0-9.]+) s', line).group(1))
+              for line in g['rosout'].lines if 'without the planner' in line]
+    assert len(passed) == 1, passed
+    step_start = passed[0]
+    # the planner's rule: the first single support whose end (0.4 s on) is 0.1 s past it
+    assert step_start + 0.3 >= stated - 1e-6 > step_start + 0.3 - 0.6
+    # the same walk, its STOP moved two steps on, told in time: the reference waits for it
+    stated += 1.2
+    announce_stop(g, stated, g['clock'].t)
+    due = round(step_start + 1.2, 3)
+    t = round(due + 0.35 + 0.01, 2)
+    while g['clock'].t < t - 0.05:
+        g['clock'].advance(0.05)
+    count = len(g['refs'].messages)
+    held_clock_command(g, t)
+    assert spin_until(g['executor'], lambda: g['rosout'].has(
+        f'extension stamped t={due:.3f} s', 'waits'), 5.0)
+    spin_until(g['executor'], lambda: False, 0.5)
+    assert not [m for m in g['refs'].messages[count:]
+                if abs(stamp_seconds(m) - (t + 0.02)) < 1e-6], 'sent without the stop plan'
+    stop_plan = plan_msg(1, straight_footsteps(9, 0.1, 0.14))
+    stop_plan.header.stamp = time_msg_of(due)  # request_id 0: the planner's change at a step
+    g['plan'].publish(stop_plan)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+    del token
+
+
+def test_a_stop_told_less_than_a_period_before_its_step_is_not_waited_for(gen):
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = gen
+    token = LivelinessToken(g['client'], 'footstep_plan')
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
+    plan.request_id = 1
+    g['plan'].publish(plan)
+    g['walk_start'] = g['clock'].t
+    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
+    g['clock'].advance(1.0)
+    # told 1 s after the stated time's step began: the planner answered it on arrival
+    stated = round(g['clock'].t + 0.2, 3)
+    announce_stop(g, stated, stated + 1.0)
+    g['clock'].advance(1.5)
+    assert not g['rosout'].has('extension stamped')
+    del token
+
+
 def stamp_seconds(msg) -> float:
     return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 

@@ -10,7 +10,9 @@ same holds for the plan the planner publishes after a step adjustment (any walk:
 steps on from the adjusted landing, a goal walk is planned anew to its goal), stamped with the
 adjustment's time. A step's extension that came before an adjustment made while it waited for
 its splice is dropped then (it lacks the moved landing), and the planner sends it again: that
-one is awaited too. Pure Python, time is an argument.
+one is awaited too. A STOP stated ahead is answered by the planner with the same kind of change
+at the start of the step under way at its time (biped_planner.stop_step), in any walk and at any
+step, the first two included: that change is awaited as well. Pure Python, time is an argument.
 """
 from typing import Optional, Sequence
 
@@ -24,7 +26,8 @@ def awaited_extension(phases: Sequence, t: float, delay: float,
                       newest_extension: Optional[float], continuous: bool = True,
                       adjusted: Sequence[float] = (),
                       adjusted_delay: Optional[float] = None,
-                      refreshed: Optional[float] = None) -> Optional[float]:
+                      refreshed: Optional[float] = None,
+                      stop_step: Optional[float] = None) -> Optional[float]:
     """The stamp of the latest extension due by t that has not come: a step's start, or a
     step adjustment's time.
 
@@ -39,6 +42,8 @@ def awaited_extension(phases: Sequence, t: float, delay: float,
         in (s); None: delay
     :param refreshed: stamp of the newest step extension (not a plan after an adjustment)
         received since this plan's latest adjustment (s), None when none has come since
+    :param stop_step: start of the step at which the planner answers a STOP stated ahead (s),
+        None when none is due
     :return: that stamp (s), None when nothing is awaited
     """
     step = None
@@ -49,6 +54,8 @@ def awaited_extension(phases: Sequence, t: float, delay: float,
             step = phase.t_begin
     after = delay if adjusted_delay is None else adjusted_delay
     due = step
+    if stop_step is not None and stop_step + delay <= t and (due is None or stop_step > due):
+        due = stop_step
     due_adjusted = max((a for a in adjusted if a + after <= t), default=None)
     if due_adjusted is not None and (due is None or due_adjusted > due):
         due = due_adjusted

@@ -146,6 +146,11 @@ class ReferenceSession:
         return self._reference
 
     @property
+    def plan_timing(self) -> Optional[StepTiming]:
+        """The timing of the newest plan set (None: no plan)."""
+        return self._plan.timing if self._plan is not None else None
+
+    @property
     def plan_id(self) -> int:
         return self._reference_plan_id or 0
 

@@ -9,8 +9,12 @@ ends the walk at a step that depends on when the message got through; one stated
 answered at the start of the single support that is under way at t by that rule (the first one
 whose end is at least STOP_LEAD after t), from that step's own walking_state, so a scripted
 trial stops at the same step, with the same plan stamp, on a quiet and on a loaded machine.
-Pure Python, times are arguments.
+The reference generator finds that single support in its own phases to wait for the plan
+answering the STOP (stated_stop_step). Pure Python, times are arguments.
 """
+from typing import Optional, Sequence
+
+from biped_planner.reference_phases import PHASE_SINGLE_SUPPORT
 from biped_planner.scheduled_commands import RESOLUTION
 
 # s: less than this before the end of a single support, the next step is committed
@@ -38,3 +42,18 @@ def stop_due_at(single_support_start: float, stop_time: float, single_support: f
         moves a step's end, not this rule, so the answer is the same in every run
     """
     return single_support_start + single_support - STOP_LEAD >= stop_time - RESOLUTION
+
+
+def stated_stop_step(phases: Sequence, stop_time: float,
+                     single_support: float) -> Optional[float]:
+    """The start (s) of the single support a STOP stated for stop_time is answered at: the
+    first of phases (ReferencePhase, in time order) with stop_due_at; None when the walk ends
+    before (then nothing answers it).
+
+    :param single_support: the plan's single support duration (s)
+    """
+    for phase in phases:
+        if phase.kind == PHASE_SINGLE_SUPPORT and \
+                stop_due_at(phase.t_begin, stop_time, single_support):
+            return phase.t_begin
+    return None

@@ -96,3 +96,25 @@ def test_a_step_extension_superseded_by_an_adjustment_before_its_splice_is_await
     late = start + DELAY + 0.01
     assert awaited_extension(reference.phases, late + 0.04, DELAY, late, True, [late], 0.04,
                              refreshed=None) is None
+
+
+def test_a_stated_stops_step_is_awaited_in_a_goal_walk_and_at_the_first_two_steps():
+    """The planner answers a STOP stated ahead at the start of any step, the first included,
+    in any walk: its change is awaited from that start plus the delay, and a later step's
+    extension of a continuous walk still is."""
+    reference = in_place_reference()
+    starts = single_support_starts(reference)
+    for k in (0, 1, 4):
+        stop_step = starts[k]
+        assert awaited_extension(reference.phases, stop_step + DELAY - 0.001, DELAY, None,
+                                 False, stop_step=stop_step) is None
+        assert awaited_extension(reference.phases, stop_step + DELAY, DELAY, None, False,
+                                 stop_step=stop_step) == stop_step
+        assert awaited_extension(reference.phases, stop_step + DELAY, DELAY, stop_step, False,
+                                 stop_step=stop_step) is None
+    # continuous: the extension of the step after the stop's is the one awaited then
+    t = starts[3] + DELAY
+    assert awaited_extension(reference.phases, t, DELAY, starts[1], True,
+                             stop_step=starts[1]) == starts[3]
+    assert awaited_extension(reference.phases, t, DELAY, starts[3], True,
+                             stop_step=starts[1]) is None

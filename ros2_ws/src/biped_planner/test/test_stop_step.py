@@ -1,6 +1,10 @@
 import pytest
 
-from biped_planner.stop_step import committed_step, STOP_LEAD, stop_due_at
+from biped_planner.footsteps import Footstep
+from biped_planner.reference_params import ReferenceParams
+from biped_planner.step_timing import StepTiming
+from biped_planner.stop_step import committed_step, stated_stop_step, STOP_LEAD, stop_due_at
+from biped_planner.walking_reference import WalkingReference
 
 SINGLE, DOUBLE = 0.3, 0.1  # s: the paper's step timing
 
@@ -42,3 +46,22 @@ def test_a_stop_stated_at_a_single_support_start_is_due_at_it_despite_float_roun
     assert stop_due_at(start - 4e-7, start, SINGLE)
     assert stop_due_at(start, start + SINGLE - STOP_LEAD, SINGLE)
     assert not stop_due_at(start, start + SINGLE - STOP_LEAD + 1e-5, SINGLE)
+
+
+def test_the_generator_finds_the_single_support_the_planner_answers_a_stated_stop_at():
+    """stated_stop_step over a reference's phases is the first single support start the
+    planner's rule (stop_due_at, applied as each single support starts) answers the STOP at;
+    None once the walk's last single support ends before it."""
+    left, right = Footstep(side=0, x=0.0, y=0.1), Footstep(side=1, x=0.0, y=-0.1)
+    feet = [left, right] + [right if i % 2 == 0 else left for i in range(6)]
+    reference = WalkingReference(feet, StepTiming(SINGLE, DOUBLE), ReferenceParams(),
+                                 t_start=10.0)
+    starts = [p.t_begin for p in reference.phases if p.kind == 'single_support']
+    for stop_time in (9.0, starts[0] + 0.01, starts[2] + SINGLE - STOP_LEAD,
+                      starts[2] + SINGLE - STOP_LEAD + 0.001, starts[5] + 0.2):
+        expected = next((start for start in starts if stop_due_at(start, stop_time, SINGLE)),
+                        None)
+        assert stated_stop_step(reference.phases, stop_time, SINGLE) == expected
+    assert stated_stop_step(reference.phases, starts[2] + SINGLE - STOP_LEAD + 0.001,
+                            SINGLE) == starts[3]
+    assert stated_stop_step(reference.phases, starts[-1] + SINGLE, SINGLE) is None

@@ -105,7 +105,7 @@ def received_plan(msg: FootstepPlan) -> ReceivedPlan:
 
 
 def walking_state_msg(status: WalkingStatus, now: float, stamp, plan_id: int,
-                      stale_inputs=()) -> WalkingState:
+                      stale_inputs=(), stop_time: float = 0.0) -> WalkingState:
     msg = WalkingState()
     msg.header.stamp = stamp
     msg.phase = int(status.phase)
@@ -117,6 +117,7 @@ def walking_state_msg(status: WalkingStatus, now: float, stamp, plan_id: int,
     msg.plan_id = int(plan_id)
     msg.fallen = status.fallen
     msg.stop_requested = status.stop_requested
+    msg.stop_time = float(stop_time)
     msg.inputs_stale = bool(stale_inputs)
     msg.stale_inputs = [str(name) for name in stale_inputs]
     msg.epoch = int(status.epoch) % 2 ** 32

@@ -95,6 +95,7 @@ from biped_planner.step_adjuster import OnlineStepAdjuster, OnlineStepAdjusterPa
 from biped_planner.step_adjustment import StepAdjustmentParams
 from biped_planner.standing_feet import settled_feet
 from biped_planner.step_timing import StepTiming
+from biped_planner.stop_step import stated_stop_step
 from biped_planner.walk_command import MAX_START_LEAD
 from biped_planner.walking_state_machine import WALKING_PHASES
 
@@ -191,6 +192,8 @@ class ReferenceGeneratorNode(Node):
         self._reject = RejectionLog(self.get_logger().error)
         self._standing = None
         self._phase = None
+        # (stop time, when walking_state first said so) of a STOP stated ahead for this walk
+        self._stated_stop: Optional[Tuple[float, float]] = None
         self._epoch = None
         self._watch = InputWatch(('walking_state',), timeout=float(get('state_timeout')))
         self._stale = ()
@@ -407,6 +410,7 @@ class ReferenceGeneratorNode(Node):
                              f'refused while walking)')
                 return
             self._restart(msg.epoch)
+        self._note_stated_stop(msg)
         if msg.phase in WALKING_PHASES:
             if self._session.start_walk(msg.walk_start_time) and self._phase not in \
                     WALKING_PHASES:
@@ -416,12 +420,36 @@ class ReferenceGeneratorNode(Node):
             self._session.end_walk()
         self._phase = msg.phase
 
+    def _note_stated_stop(self, msg: WalkingState) -> None:
+        """Keep the walk's STOP stated ahead (walking_state.stop_time) until the walk ends: the
+        state machine reports it until then, and stopped reporting it when it was dropped."""
+        walking = msg.phase in WALKING_PHASES
+        if not walking or (msg.stop_time <= 0.0 and not msg.stop_requested):
+            self._stated_stop = None
+        elif msg.stop_time > 0.0 and (self._stated_stop is None or
+                                      self._stated_stop[0] != msg.stop_time):
+            self._stated_stop = (msg.stop_time, seconds_of(msg.header.stamp))
+
+    def _stated_stop_step(self, reference) -> Optional[float]:
+        """The start of the step whose change the planner makes the stated STOP's plan (s),
+        when the planner holds that STOP: it learnt of it with this node, at least a period
+        before that step (later, it answers on arrival, which nothing waits for)."""
+        timing = self._session.plan_timing
+        if self._stated_stop is None or timing is None:
+            return None
+        stop_time, announced = self._stated_stop
+        start = stated_stop_step(reference.phases, stop_time, timing.single_support)
+        if start is None or announced > start - self._period_ns * 1e-9:
+            return None
+        return start
+
     def _restart(self, epoch: int) -> None:
         """The robot was reset: no walk, no plan, stand where the controller puts the feet."""
         self._epoch = epoch
         self._session = self._new_session()
         self._adjustments = (None, [])
         self._refreshed_extension = None
+        self._stated_stop = None
         self._estimates.restart()  # the clock went back
         self._standing = None
         self._soles_seen = False
@@ -505,7 +533,7 @@ class ReferenceGeneratorNode(Node):
             plan_stamp(self._newest_extension, plan_id),
             self._continuous, adjusted if adjusted_plan == plan_id else (),
             self.get_parameter('adjustment_replan_delay').value,
-            plan_stamp(self._refreshed_extension, plan_id))
+            plan_stamp(self._refreshed_extension, plan_id), self._stated_stop_step(reference))
         waiting = self._waiting
         if due is None:
             self._waiting = None

@@ -101,6 +101,9 @@ class StateMachineNode(Node):
         self._stale = ()
         # (sim time, WalkCommand, told the planner) of a STOP with a start_time
         self._scheduled_stop = None
+        # the time of the STOP stated ahead that the planner ends this walk at (walking_state's
+        # stop_time: the reference generator waits for the plan it makes then), 0 when none
+        self._stated_stop_time = 0.0
         self._teleop = TeleopGate()  # the walk cmd_vel drives, and its timeout
         self._odometry = PoseStream('odom', self.get_parameter('odom_frame').value)
         self._state_pub = self.create_publisher(WalkingState, 'walking_state', 10)
@@ -156,7 +159,7 @@ class StateMachineNode(Node):
         # the clock (which can move meanwhile): stamp - time_in_phase is the phase's start,
         # which the planner's extensions are timed from
         self._state_pub.publish(walking_state_msg(status, now, time_msg_of(now), self._plan_id,
-                                                  self._stale))
+                                                  self._stale, self._stated_stop_time))
         self._last_publish = now
 
     def _publish_transitions(self, transitions, now: float) -> None:
@@ -168,6 +171,7 @@ class StateMachineNode(Node):
                     self._plan.continuous and status.step_index > self._plan_step:
                 self._watch.due(PLAN, now, time.monotonic())  # the planner extends every step
             elif status.phase in (Phase.IDLE, Phase.FALLEN):
+                self._stated_stop_time = 0.0
                 self._watch.withdraw(PLAN)
                 self._teleop.ended(drop_deferred=status.phase == Phase.FALLEN)
                 self._plan = None
@@ -217,6 +221,8 @@ class StateMachineNode(Node):
                 self._scheduled_stop = (stop_time, msg, planned)
                 if planned:
                     self._ask_planner_to_stop(msg)
+                    self._stated_stop_time = stop_time
+                    self._publish(self._machine.status, now)  # with the planner's request
                 self.get_logger().info(f'STOP scheduled for t={stop_time:.3f} s')
             else:
                 self._publish_transitions(self._stop(now, 'stop requested', msg), now)
@@ -376,6 +382,7 @@ class StateMachineNode(Node):
             self.get_logger().info(f'scheduled STOP for t={self._scheduled_stop[0]:.3f} s '
                                    f'dropped: {why}')
             self._scheduled_stop = None
+            self._stated_stop_time = 0.0
 
     # --- plans ------------------------------------------------------------------------------
     def _on_plan(self, msg: FootstepPlan) -> None:
