@@ -400,6 +400,22 @@ def test_a_walk_command_drops_a_stop_stated_for_later(graph):
     assert all(p.continuous for p in plans)
 
 
+def test_a_stop_without_a_time_drops_a_stated_one_and_its_stop_time(graph):
+    g = graph
+    g['command'].publish(WalkCommand(command=WalkCommand.OMNI))
+    latest_plan(g)
+    g['clock'].advance(1.0)
+    g['command'].publish(WalkCommand(command=WalkCommand.STOP, start_time=g['clock'].t + 3.0))
+    g['clock'].advance(0.2)
+    assert g['states'].messages[-1].stop_time > 0.0
+    g['command'].publish(WalkCommand(command=WalkCommand.STOP))
+    g['clock'].advance(0.2)
+    state = g['states'].messages[-1]
+    assert state.stop_requested and state.stop_time == 0.0
+    g['clock'].advance(2.0)
+    assert g['states'].messages[-1].phase == WalkingState.IDLE
+
+
 def test_stop_drops_a_command_stated_for_later(graph):
     g = graph
     g['command'].publish(WalkCommand(command=WalkCommand.OMNI))

@@ -396,6 +396,30 @@ def test_in_lockstep_a_goal_walk_waits_for_the_plan_answering_a_stop_stated_ahea
     del token
 
 
+def test_a_stated_stop_dropped_by_a_stop_without_a_time_is_not_waited_for(gen):
+    """A STOP without a time after a stated one: the planner answers it on arrival and drops
+    the stated one, and the state machine reports stop_time 0 (stop_requested)."""
+    from biped_planner.node_support.liveliness import LivelinessToken
+    g = gen
+    token = LivelinessToken(g['client'], 'footstep_plan')
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
+    plan.request_id = 1
+    g['plan'].publish(plan)
+    g['walk_start'] = g['clock'].t
+    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
+    g['clock'].advance(1.0)
+    announce_stop(g, round(g['clock'].t + 2.0, 3), g['clock'].t)
+    dropped = WalkingState(phase=WalkingState.SINGLE_SUPPORT, plan_id=1, stop_requested=True,
+                           walk_start_time=g['walk_start'])
+    dropped.header.stamp = time_msg_of(g['clock'].t)
+    g['state'].publish(dropped)
+    g['clock'].advance(2.6)
+    assert not g['rosout'].has('extension stamped')
+    del token
+
+
 def test_a_stop_told_less_than_a_period_before_its_step_is_not_waited_for(gen):
     from biped_planner.node_support.liveliness import LivelinessToken
     g = gen

@@ -421,10 +421,9 @@ class ReferenceGeneratorNode(Node):
         self._phase = msg.phase
 
     def _note_stated_stop(self, msg: WalkingState) -> None:
-        """Keep the walk's STOP stated ahead (walking_state.stop_time) until the walk ends: the
-        state machine reports it until then, and stopped reporting it when it was dropped."""
-        walking = msg.phase in WALKING_PHASES
-        if not walking or (msg.stop_time <= 0.0 and not msg.stop_requested):
+        """The walk's STOP stated ahead (walking_state.stop_time): the state machine reports it
+        until the walk ends, and 0 once a command dropped it (a STOP without a time too)."""
+        if msg.phase not in WALKING_PHASES or msg.stop_time <= 0.0:
             self._stated_stop = None
         elif msg.stop_time > 0.0 and (self._stated_stop is None or
                                       self._stated_stop[0] != msg.stop_time):
