@@ -237,6 +237,21 @@ def continuous_walk(g):
     return plan
 
 
+def assert_held_until_it_comes(g, t: float, due: float, change: FootstepPlan) -> None:
+    """In lockstep at t, the reference of t + 0.02 s waits for the planner's change stamped
+    due, and goes out once change (stamped due) comes."""
+    count = len(g['refs'].messages)
+    held_clock_command(g, t)
+    assert spin_until(g['executor'], lambda: g['rosout'].has(
+        f'extension stamped t={due:.3f} s', 'waits'), 5.0)
+    spin_until(g['executor'], lambda: False, 0.5)
+    assert not [m for m in g['refs'].messages[count:]
+                if abs(stamp_seconds(m) - (t + 0.02)) < 1e-6], 'sent without the change'
+    g['plan'].publish(change)
+    assert spin_until(g['executor'], lambda: any(
+        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+
+
 def test_in_lockstep_a_reference_waits_for_the_extension_due_by_its_time(gen):
     """With a planner alive (its liveliness token), the reference of a time by which the
     planner's extension is due is held until the extension comes: the controller and the
@@ -252,20 +267,10 @@ def test_in_lockstep_a_reference_waits_for_the_extension_due_by_its_time(gen):
     assert passed, 'no extension was due while the clock ran'
     due = round(max(passed) + 0.6, 3)  # the next step's start (0.4 + 0.2 s steps)
     t = round(due + 0.35 + 0.01, 2)  # its extension is due by the reference of t + 0.02
-    count = len(g['refs'].messages)
-    held_clock_command(g, t)
-    assert spin_until(g['executor'], lambda: g['rosout'].has(
-        f'extension stamped t={due:.3f} s', 'waits'), 5.0)
-    spin_until(g['executor'], lambda: False, 0.5)
-    assert not [m for m in g['refs'].messages[count:]
-                if abs(stamp_seconds(m) - (t + 0.02)) < 1e-6], 'sent without the extension'
     extension = plan_msg(1, straight_footsteps(9, 0.0, 0.14))
     extension.continuous = True
-    extension.header.stamp.sec, extension.header.stamp.nanosec = int(due), round(
-        (due % 1) * 1e9)
-    g['plan'].publish(extension)
-    assert spin_until(g['executor'], lambda: any(
-        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+    extension.header.stamp = time_msg_of(due)
+    assert_held_until_it_comes(g, t, due, extension)
     del token, plan
 
 
@@ -333,6 +338,18 @@ def test_without_a_live_planner_a_reference_does_not_wait(gen):
     assert not g['rosout'].has('waits for the planner')
 
 
+def goal_walk(g) -> None:
+    """A goal walk of 16 steps of 0.1 m (request 1: not continuous), 1 s into it."""
+    g['soles'].publish(sole_poses(0.0))
+    state(g, WalkingState.IDLE)
+    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
+    plan.request_id = 1
+    g['plan'].publish(plan)
+    g['walk_start'] = g['clock'].t
+    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
+    g['clock'].advance(1.0)
+
+
 def announce_stop(g, stop_time: float, announced: float) -> None:
     """The state machine's walking_state once it scheduled a STOP for stop_time (s) and told
     the planner, stamped with when it did (s)."""
@@ -355,14 +372,7 @@ def test_in_lockstep_a_goal_walk_waits_for_the_plan_answering_a_stop_stated_ahea
     token = LivelinessToken(g['client'], 'footstep_plan')
     g['commands'] = g['client'].create_publisher(JointState, 'joint_commands', 10)
     assert wait_for_subscribers(g['executor'], g['commands'], timeout=15)
-    g['soles'].publish(sole_poses(0.0))
-    state(g, WalkingState.IDLE)
-    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
-    plan.request_id = 1  # a goal walk's plan: not continuous
-    g['plan'].publish(plan)
-    g['walk_start'] = g['clock'].t
-    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
-    g['clock'].advance(1.0)
+    goal_walk(g)
     assert not g['rosout'].has('extension stamped'), 'a goal walk waited for an extension'
     # a STOP 2 s ahead, told while the clock runs (no lockstep: walked on, and logged)
     stated = round(g['clock'].t + 2.0, 3)
@@ -381,18 +391,9 @@ def test_in_lockstep_a_goal_walk_waits_for_the_plan_answering_a_stop_stated_ahea
     t = round(due + 0.35 + 0.01, 2)
     while g['clock'].t < t - 0.05:
         g['clock'].advance(0.05)
-    count = len(g['refs'].messages)
-    held_clock_command(g, t)
-    assert spin_until(g['executor'], lambda: g['rosout'].has(
-        f'extension stamped t={due:.3f} s', 'waits'), 5.0)
-    spin_until(g['executor'], lambda: False, 0.5)
-    assert not [m for m in g['refs'].messages[count:]
-                if abs(stamp_seconds(m) - (t + 0.02)) < 1e-6], 'sent without the stop plan'
     stop_plan = plan_msg(1, straight_footsteps(9, 0.1, 0.14))
     stop_plan.header.stamp = time_msg_of(due)  # request_id 0: the planner's change at a step
-    g['plan'].publish(stop_plan)
-    assert spin_until(g['executor'], lambda: any(
-        abs(stamp_seconds(m) - (t + 0.02)) < 1e-6 for m in g['refs'].messages[count:]), 5.0)
+    assert_held_until_it_comes(g, t, due, stop_plan)
     del token
 
 
@@ -402,14 +403,7 @@ def test_a_stated_stop_dropped_by_a_stop_without_a_time_is_not_waited_for(gen):
     from biped_planner.node_support.liveliness import LivelinessToken
     g = gen
     token = LivelinessToken(g['client'], 'footstep_plan')
-    g['soles'].publish(sole_poses(0.0))
-    state(g, WalkingState.IDLE)
-    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
-    plan.request_id = 1
-    g['plan'].publish(plan)
-    g['walk_start'] = g['clock'].t
-    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
-    g['clock'].advance(1.0)
+    goal_walk(g)
     announce_stop(g, round(g['clock'].t + 2.0, 3), g['clock'].t)
     dropped = WalkingState(phase=WalkingState.SINGLE_SUPPORT, plan_id=1, stop_requested=True,
                            walk_start_time=g['walk_start'])
@@ -424,14 +418,7 @@ def test_a_stop_told_less_than_a_period_before_its_step_is_not_waited_for(gen):
     from biped_planner.node_support.liveliness import LivelinessToken
     g = gen
     token = LivelinessToken(g['client'], 'footstep_plan')
-    g['soles'].publish(sole_poses(0.0))
-    state(g, WalkingState.IDLE)
-    plan = plan_msg(1, straight_footsteps(16, 0.1, 0.14))
-    plan.request_id = 1
-    g['plan'].publish(plan)
-    g['walk_start'] = g['clock'].t
-    state(g, WalkingState.INITIALIZE, walk_start=g['walk_start'])
-    g['clock'].advance(1.0)
+    goal_walk(g)
     # told 1 s after the stated time's step began: the planner answered it on arrival
     stated = round(g['clock'].t + 0.2, 3)
     announce_stop(g, stated, stated + 1.0)
