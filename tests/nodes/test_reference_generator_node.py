@@ -364,8 +364,7 @@ def test_in_lockstep_a_goal_walk_waits_for_the_plan_answering_a_stop_stated_ahea
     """A goal walk's steps are not extended, so nothing else waits for the planner in it; the
     planner answers a STOP stated ahead at the start of the step under way at its time
     (biped_planner.stop_step), with a change stamped with that start: the reference due by
-    then waits for it, whenever it comes. A STOP it learnt of less than a period before that
-    step is answered on arrival by the planner, and is not waited for."""
+    then waits for it, whenever it comes."""
     import re
     from biped_planner.node_support.liveliness import LivelinessToken
     g = gen
@@ -415,6 +414,8 @@ def test_a_stated_stop_dropped_by_a_stop_without_a_time_is_not_waited_for(gen):
 
 
 def test_a_stop_told_less_than_a_period_before_its_step_is_not_waited_for(gen):
+    """The planner answers a STOP it learnt of less than a period before its step on arrival
+    (not stamped with the step): nothing waits for it."""
     from biped_planner.node_support.liveliness import LivelinessToken
     g = gen
     token = LivelinessToken(g['client'], 'footstep_plan')

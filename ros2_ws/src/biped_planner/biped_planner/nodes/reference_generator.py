@@ -425,8 +425,7 @@ class ReferenceGeneratorNode(Node):
         until the walk ends, and 0 once a command dropped it (a STOP without a time too)."""
         if msg.phase not in WALKING_PHASES or msg.stop_time <= 0.0:
             self._stated_stop = None
-        elif msg.stop_time > 0.0 and (self._stated_stop is None or
-                                      self._stated_stop[0] != msg.stop_time):
+        elif self._stated_stop is None or self._stated_stop[0] != msg.stop_time:
             self._stated_stop = (msg.stop_time, seconds_of(msg.header.stamp))
 
     def _stated_stop_step(self, reference) -> Optional[float]:
