@@ -507,6 +507,64 @@ def test_a_lost_simulator_is_reported(walk_loop):
         for d in m[count:]), timeout=10)
 
 
+def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(ros_context,
+                                                                             executor):
+    """A CI failure of 2026-12-07: the controller's process was held up for longer than the
+    simulator waits; the simulator gave it up and ran on in real time, and the controller's next
+    joint_states was 0.34 s newer than its last. It refused them as a jump for NEW_TIMELINE
+    messages and reported the simulator lost. Its clock has run through the gap: it answers the
+    newest period it is sent, and the simulator is back in lockstep."""
+    simulator = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter('hung_controller_timeout', value=0.3)]))  # alive but silent: lost at once
+    controller = executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
+    client = executor.track(rclpy.create_node('mpc_held_up_client', context=ros_context))
+    g = dict(client=client, executor=executor, rosout=RosoutLines(client))
+    g['commands'] = Collector(client, JointState, 'joint_commands', 100)
+    g['clock'] = Collector(client, Clock, '/clock', 100)
+    g['refs'] = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+    assert wait_for_subscribers(executor, g['refs'], timeout=15)
+    assert g['clock'].wait_for(executor, timeout=15)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    executor.remove_node(controller)  # held up: nothing of it runs, DDS queues its inputs
+    t_held = clock_time(g)
+    play_references(g, window_of, t_held + 1.0)  # the simulator ran on without it
+    assert g['rosout'].has('[simulator]', 'controller lost')
+    t_back = clock_time(g)
+    count = len(g['commands'].messages)
+    executor.add_node(controller)
+    play_references(g, window_of, t_back + 0.5)
+    # the first answer to a period it was sent while held up (not the one it held then)
+    answered = [seconds(m.header.stamp) for m in g['commands'].messages[count:]]
+    newer = [t for t in answered if t > t_held + 0.1]
+    assert newer and newer[0] <= t_back + 0.1, (t_held, t_back, answered[:5])
+    assert g['rosout'].has('[simulator]', 'joint_commands arrive again')
+    assert simulator.get_parameter('lockstep').value
+
+
+def test_refused_joint_states_are_reported_as_refused_not_as_a_lost_simulator(walk_loop):
+    """A live simulator whose joint_states the controller refuses (here stamped 5 s ahead of
+    the clock) is not a lost one: the hold says which and why."""
+    g = walk_loop
+    states = Collector(g['client'], JointState, 'joint_states', 10)
+    assert g['clock'].wait_for(g['executor'], timeout=15)
+    play_references(g, window_of, clock_time(g) + 0.3)
+    assert states.wait_for(g['executor'], timeout=5)
+    simulator = next(n for n in g['executor'].get_nodes() if n.get_name() == 'simulator')
+    g['executor'].remove_node(simulator)  # silent from now on (destroyed at teardown)
+    ahead = states.messages[-1]
+    ahead.header.stamp.sec += 5
+    publisher = g['client'].create_publisher(JointState, 'joint_states', 10)
+    count = len(g['diag'].messages)
+
+    def refused_reported():
+        publisher.publish(ahead)
+        return any(d.status == ControllerDiagnostics.HOLDING and 'refused' in d.message and
+                   'ahead of the clock' in d.message for d in g['diag'].messages[count:])
+    assert spin_until(g['executor'], refused_reported, 10.0)
+    assert not any('simulator lost' in d.message for d in g['diag'].messages[count:])
+
+
 def window_of(t):
     return standing_window(Footstep(LEFT, 0.0, 0.07), Footstep(RIGHT, 0.0, -0.07),
                            ReferenceParams(foot_length=0.2, foot_width=0.1), t, 90, 0.02)

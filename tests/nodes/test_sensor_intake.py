@@ -9,8 +9,10 @@ from biped_mpc.nodes.sensor_intake import MAX_JUMP, NEW_TIMELINE, SensorFrames, 
 
 
 def intake(clock=None):
+    """An intake whose node clock reads clock: a number, a one-element list to move it, or None
+    (no /clock)."""
     return SensorIntake(InputBounds(), SensorFrames(), ['j'] * 12, [-1.0] * 12, [1.0] * 12,
-                        lambda: clock)
+                        lambda: clock[0] if isinstance(clock, list) else clock)
 
 
 def odom(t: float, x: float = 0.0, frame: str = 'map') -> Odometry:
@@ -52,6 +54,22 @@ def test_with_a_clock_a_stamp_ahead_of_it_is_refused():
     sensors = intake(clock=10.0)
     kept, why = sensors.accept('odom', odom(12.0))
     assert not kept and 'ahead of the clock' in why
+
+
+def test_with_a_clock_a_gap_in_the_stream_is_taken_once_the_clock_has_run_through_it():
+    """A controller held up while the simulator, giving it up, ran on in real time: its next
+    joint_states is 0.34 s newer than the last it took (CI, 2026-12-07). Refused as a jump until
+    the clock has come there; then taken at once, not after NEW_TIMELINE messages."""
+    clock = [3.38]
+    sensors = intake(clock=clock)
+    assert sensors.accept('odom', odom(3.38)) == (True, None)
+    kept, why = sensors.accept('odom', odom(3.72))
+    assert not kept and 'jumps ahead' in why  # the clock is not there yet
+    clock[0] = 3.70
+    assert sensors.accept('odom', odom(3.74)) == (True, None)
+    assert sensors.accept('odom', odom(3.76)) == (True, None)
+    kept, why = sensors.accept('odom', odom(3.76 + MAX_JUMP + 0.1))
+    assert not kept and 'jumps ahead' in why  # still refused beyond the clock
 
 
 def test_a_restarted_simulator_becomes_the_time_once_it_runs_on():

@@ -34,7 +34,8 @@ Safety (biped_mpc.safe_stance, biped_mpc.input_bounds):
   the sensors' range, quaternions that are not unit): a refused one is logged and the previous
   valid one kept; when a sensor has had no valid message for sensor_timeout the controller
   holds the safe stance (HOLDING, naming it). No joint_states for sensor_loss_timeout of wall
-  time (the simulator is gone): HOLDING reported, naming joint_states. None at all for
+  time (the simulator is gone): HOLDING reported, naming joint_states (and why they are refused
+  when they come but are refused). None at all for
   startup_sensor_patience after the start: the log says so every 5 s, with how many publishers
   joint_states has (none: no simulator found; some: their messages do not arrive).
 - walking_state.epoch changed (the state machine reset the robot): once the robot stands
@@ -180,6 +181,7 @@ class MpcControllerNode(Node):
         self._period = None  # stamp (sec, nanosec) of the newest joint_states
         self._poll_deadline = None
         self._joint_states_arrival = None
+        self._joint_states_refused = -math.inf  # wall time of the newest refused joint_states
         self._created = time.monotonic()
         self._last_cycle = None
         self._pending = None  # sensor time (s) of a complete period not yet computed
@@ -264,6 +266,7 @@ class MpcControllerNode(Node):
 
     def _on_joint_states(self, msg: JointState) -> None:
         if not self._accept('joint_states', msg):
+            self._joint_states_refused = time.monotonic()
             return
         period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         if period == self._last_cycle and self._answered(period):
@@ -382,8 +385,8 @@ class MpcControllerNode(Node):
         self._try_cycle(force=True)
 
     def _on_watchdog(self) -> None:
-        """Report the simulator lost when joint_states stop (no cycle runs without them), and
-        say so when none has come since the start."""
+        """Report the simulator lost when joint_states stop (no cycle runs without them), why
+        when they come but are refused, and say so when none has come since the start."""
         if self._joint_states_arrival is None:
             waited = time.monotonic() - self._created
             if waited >= self.get_parameter('startup_sensor_patience').value:
@@ -399,8 +402,12 @@ class MpcControllerNode(Node):
         # unanswered, a simulator in lockstep waits for this controller: give it longer
         if silent >= (timeout if self._answered(self._period) else
                       UNANSWERED_FACTOR * timeout):
+            # a live simulator whose joint_states are refused is not a lost one
+            refused = time.monotonic() - self._joint_states_refused < timeout
             message = (f'holding a stance: sensors stale: no joint_states for {silent:.1f} s '
-                       f'(simulator lost)')
+                       f'(simulator lost)') if not refused else (
+                f'holding a stance: sensors stale: joint_states refused for {silent:.1f} s '
+                f'({self._intake.why_stale("joint_states")})')
             self.get_logger().error(message, throttle_duration_sec=5.0)
             self._diag_pub.publish(diagnostics_msg(
                 self.get_clock().now().to_msg(), ControllerDiagnostics.HOLDING, message,

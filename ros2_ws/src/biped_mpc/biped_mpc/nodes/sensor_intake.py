@@ -1,8 +1,8 @@
 """The controller's sensor messages checked at the boundary, the newest valid one kept per topic.
 
 A message is refused (and the previous valid one kept) when its frame is not the expected one,
-its stamp goes back, jumps ahead of the stream's or lies in the future of the node's clock (when
-it follows /clock), or a value is not finite or
+its stamp goes back, jumps ahead of the stream's (without a clock, or beyond the node's clock)
+or lies in the future of the node's clock (when it follows /clock), or a value is not finite or
 beyond the physical bounds of biped_mpc.input_bounds (positions outside the workspace, joints
 past their limits, forces beyond what an F/T sensor measures, quaternions that are not unit).
 """
@@ -21,6 +21,7 @@ from biped_planner.node_support.stamps import seconds_of
 
 Stamp = Tuple[int, int]
 CLOCK_JUMP = 0.1  # s: a stamp this close to a clock that went back follows the clock
+CLOCK_LAG = 0.1  # s: how far a stream may run ahead of the node's clock (its /clock handled later)
 MAX_JUMP = 0.25  # s: a stream's stamps move on by a period; farther ahead is refused
 NEW_TIMELINE = 25  # stamps off the timeline that run on steadily this long become the time
 
@@ -83,6 +84,7 @@ class SensorIntake:
             return False, str(error)
         why = self._stamp_problem(topic, seconds)
         if why is not None:
+            self.rejected[topic] = ((stamp.sec, stamp.nanosec), why)
             return False, why
         # only a valid message moves the stamps on: a refused one stamped ahead must not make
         # the valid ones that follow look old
@@ -156,6 +158,11 @@ class SensorIntake:
             return None
         # the clock itself went back (a new simulator): follow it
         if now is not None and now < newest - CLOCK_JUMP and abs(seconds - now) <= CLOCK_JUMP:
+            return None
+        # a gap in the stream that the clock has run through (messages lost, or this node held
+        # up while a simulator that gave up on it ran on): the stamp is the time
+        if now is not None and newest < seconds <= now + CLOCK_LAG:
+            self._timelines.pop(topic, None)
             return None
         if self._new_timeline(topic, seconds):
             return None
