@@ -34,8 +34,10 @@ Safety (biped_mpc.safe_stance, biped_mpc.input_bounds):
   the sensors' range, quaternions that are not unit): a refused one is logged and the previous
   valid one kept; when a sensor has had no valid message for sensor_timeout the controller
   holds the safe stance (HOLDING, naming it). No joint_states for sensor_loss_timeout of wall
-  time (the simulator is gone): HOLDING reported, naming joint_states (and why they are refused
-  when they come but are refused). None at all for
+  time: HOLDING reported, naming joint_states, when the simulator is gone (its process, by DDS
+  liveliness of joint_states/alive; one without that token; or one silent for
+  simulator_hung_timeout) or when they come but are refused (saying why); a live simulator that
+  holds its clock or is slow is said in the log. None at all for
   startup_sensor_patience after the start: the log says so every 5 s, with how many publishers
   joint_states has (none: no simulator found; some: their messages do not arrive).
 - walking_state.epoch changed (the state machine reset the robot): once the robot stands
@@ -133,6 +135,9 @@ class MpcControllerNode(Node):
                                'hold a stance (s)', (0.0, 10.0)),
             'sensor_loss_timeout': (0.5, 'wall time without joint_states after which it reports '
                                     'the simulator lost (s)', (0.05, 60.0)),
+            'simulator_hung_timeout': (10.0, 'wall time without joint_states after which a '
+                                       'simulator whose process is alive is reported lost all '
+                                       'the same (hung) (s)', (0.1, 3600.0)),
             'startup_sensor_patience': (10.0, 'wall time after the start without any '
                                         'joint_states after which the log says no cycle runs '
                                         'for want of them (s)', (0.1, 600.0)),
@@ -181,6 +186,7 @@ class MpcControllerNode(Node):
         self._period = None  # stamp (sec, nanosec) of the newest joint_states
         self._poll_deadline = None
         self._joint_states_arrival = None
+        self._joint_states_heard = None  # wall time of the newest valid one, a repeat too
         self._joint_states_refused = -math.inf  # wall time of the newest refused joint_states
         self._created = time.monotonic()
         self._last_cycle = None
@@ -220,6 +226,7 @@ class MpcControllerNode(Node):
         self._reference_arrival = None  # wall time the last valid reference arrived
         self._deadlines = DeadlineMonitor(float(get('command_deadline')))
         self._reference_process = LivelinessWatch(self, 'reference_trajectory')
+        self._simulator_process = LivelinessWatch(self, 'joint_states')
         self.create_timer(WATCHDOG_PERIOD, self._on_watchdog, clock=steady)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
                                f'{self._params.mpc.n_predict})')
@@ -268,6 +275,7 @@ class MpcControllerNode(Node):
         if not self._accept('joint_states', msg):
             self._joint_states_refused = time.monotonic()
             return
+        self._joint_states_heard = time.monotonic()
         period = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         if period == self._last_cycle and self._answered(period):
             # The simulator sent this period again: its answer was lost (at start-up, before
@@ -385,9 +393,10 @@ class MpcControllerNode(Node):
         self._try_cycle(force=True)
 
     def _on_watchdog(self) -> None:
-        """Report the simulator lost when joint_states stop (no cycle runs without them), why
-        when they come but are refused, and say so when none has come since the start."""
-        if self._joint_states_arrival is None:
+        """Report the simulator lost when joint_states stop (no cycle runs without them) and its
+        process is gone or hung, why when they come but are refused, and say so when none has
+        come since the start."""
+        if self._joint_states_heard is None:
             waited = time.monotonic() - self._created
             if waited >= self.get_parameter('startup_sensor_patience').value:
                 publishers = self.count_publishers('joint_states')
@@ -397,21 +406,29 @@ class MpcControllerNode(Node):
                                           f'({why}): no control cycle runs until they come',
                                           throttle_duration_sec=5.0)
             return
-        silent = time.monotonic() - self._joint_states_arrival
+        silent = time.monotonic() - self._joint_states_heard
         timeout = self.get_parameter('sensor_loss_timeout').value
         # unanswered, a simulator in lockstep waits for this controller: give it longer
-        if silent >= (timeout if self._answered(self._period) else
-                      UNANSWERED_FACTOR * timeout):
-            # a live simulator whose joint_states are refused is not a lost one
-            refused = time.monotonic() - self._joint_states_refused < timeout
+        if silent < (timeout if self._answered(self._period) else UNANSWERED_FACTOR * timeout):
+            return
+        if time.monotonic() - self._joint_states_refused < timeout:
+            message = (f'holding a stance: sensors stale: joint_states refused for {silent:.1f} '
+                       f's ({self._intake.why_stale("joint_states")})')
+        elif self._simulator_process.alive and \
+                silent < self.get_parameter('simulator_hung_timeout').value:
+            # its clock held (hold_at, waiting for publishers or a pacing runner) or slow
+            self.get_logger().warning(
+                f'no new joint_states for {silent:.1f} s: the simulator is alive (its clock '
+                f'held, or slow); no control cycle runs until they come',
+                throttle_duration_sec=5.0)
+            return
+        else:
             message = (f'holding a stance: sensors stale: no joint_states for {silent:.1f} s '
-                       f'(simulator lost)') if not refused else (
-                f'holding a stance: sensors stale: joint_states refused for {silent:.1f} s '
-                f'({self._intake.why_stale("joint_states")})')
-            self.get_logger().error(message, throttle_duration_sec=5.0)
-            self._diag_pub.publish(diagnostics_msg(
-                self.get_clock().now().to_msg(), ControllerDiagnostics.HOLDING, message,
-                self._params))
+                       f'(simulator lost)')
+        self.get_logger().error(message, throttle_duration_sec=5.0)
+        self._diag_pub.publish(diagnostics_msg(
+            self.get_clock().now().to_msg(), ControllerDiagnostics.HOLDING, message,
+            self._params))
 
     def destroy_node(self) -> None:
         for reader in (*self._readers.values(), self._state_reader):
