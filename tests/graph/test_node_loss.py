@@ -85,3 +85,44 @@ def test_a_killed_simulator_is_reported_by_the_controller():
         assert session.spin_until(lambda: any(
             d.status == ControllerDiagnostics.HOLDING and 'joint_states' in d.message
             for d in user.controller[count:]), 15), 'the controller did not report'
+
+
+def test_a_controller_held_up_takes_control_again_at_once():
+    """A controller process held up (SIGSTOP) for longer than the simulator waits: the simulator
+    gives it up, its servos hold the last joint positions and the clock runs on in real time.
+    Running again (SIGCONT), the controller takes the sensors up again, answers, and the
+    simulator is back in lockstep within a second; the robot stands throughout. (A CI run of
+    2026-12-07 refused the sensors after such a gap as a jump and reported the live simulator
+    lost; under load, a version that took them on a wall-time silence still refused one after
+    a gap in the queued messages while its /clock lagged, and the simulator, back in lockstep,
+    waited 10 s for the answer to it: it now sends the period's sensors again. The node test
+    test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once checks that the
+    sensors are taken at once.)"""
+    lines = []
+
+    def log(text: str) -> None:
+        lines.append(text)
+        print(text)
+    with GraphSession(domain_id_for_worker(), keep_going=True, log=log) as session:
+        session.wait_until_ready()
+        user = GraphUser(session)
+        pid = session.graph.processes['mpc_controller'].pid
+        t_stop = session.sim_time()
+        os.kill(pid, signal.SIGSTOP)
+        try:
+            assert session.spin_until(lambda: any('controller lost' in line for line in lines),
+                                      30), 'the simulator did not give the controller up'
+            assert session.spin_until(lambda: session.sim_time() >= t_stop + 1.0, 30)
+        finally:
+            resumed = len(lines)
+            os.kill(pid, signal.SIGCONT)
+        assert session.spin_until(lambda: any('joint_commands arrive again' in line
+                                              for line in lines[resumed:]), 30)
+        t_back = session.sim_time()
+        assert session.spin_until(lambda: session.sim_time() >= t_back + 2.0, 60)
+        waits = [line for line in lines[resumed:] if 'has not answered for' in line and
+                 float(line.split('has not answered for ')[1].split(' s')[0]) >= 1.0]
+        assert not waits, waits
+        assert user.stood_since(t_stop)
+        last = user.controller[-1]
+        assert last.status != ControllerDiagnostics.HOLDING, last.message

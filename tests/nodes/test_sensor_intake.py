@@ -8,11 +8,17 @@ from biped_mpc.input_bounds import InputBounds
 from biped_mpc.nodes.sensor_intake import MAX_JUMP, NEW_TIMELINE, SensorFrames, SensorIntake
 
 
-def intake(clock=None):
+def intake(clock=None, wall=None):
     """An intake whose node clock reads clock: a number, a one-element list to move it, or None
-    (no /clock)."""
+    (no /clock); its wall clock reads wall[0] (a list), by default 0.01 s more at each read (a
+    steady stream)."""
+    if wall is None:
+        ticks = iter(range(1_000_000))
+        wall_now = lambda: 0.01 * next(ticks)  # noqa: E731
+    else:
+        wall_now = lambda: wall[0]  # noqa: E731
     return SensorIntake(InputBounds(), SensorFrames(), ['j'] * 12, [-1.0] * 12, [1.0] * 12,
-                        lambda: clock[0] if isinstance(clock, list) else clock)
+                        lambda: clock[0] if isinstance(clock, list) else clock, wall=wall_now)
 
 
 def odom(t: float, x: float = 0.0, frame: str = 'map') -> Odometry:
@@ -70,6 +76,34 @@ def test_with_a_clock_a_gap_in_the_stream_is_taken_once_the_clock_has_run_throug
     assert sensors.accept('odom', odom(3.76)) == (True, None)
     kept, why = sensors.accept('odom', odom(3.76 + MAX_JUMP + 0.1))
     assert not kept and 'jumps ahead' in why  # still refused beyond the clock
+
+
+def test_a_stream_silent_in_wall_time_takes_its_jump_ahead():
+    """This node held up while the simulator ran on, its /clock handled after the sensors
+    (the graph test of a SIGSTOPped controller): the stream was silent for 0.8 s of wall time
+    and its stamp moved on by 0.8 s: taken. The same stamp within a steady stream is not."""
+    wall = [100.0]
+    sensors = intake(clock=[0.06], wall=wall)
+    assert sensors.accept('odom', odom(0.06)) == (True, None)
+    wall[0] += 0.01
+    kept, why = sensors.accept('odom', odom(0.86))
+    assert not kept and 'jumps ahead' in why
+    wall[0] += 0.8
+    assert sensors.accept('odom', odom(0.86)) == (True, None)
+    assert sensors.accept('odom', odom(0.88)) == (True, None)
+
+
+def test_repeats_of_the_newest_stamp_are_not_a_stream_that_runs():
+    """A simulator holding its clock sends its held sensors again; queued during a held-up
+    node's silence, the repeat comes first (the graph test, 1 run of 5 under load): the silence
+    still counts from when the stamps last moved on."""
+    wall = [100.0]
+    sensors = intake(clock=[0.30], wall=wall)
+    assert sensors.accept('odom', odom(0.30)) == (True, None)
+    wall[0] += 1.5
+    assert sensors.accept('odom', odom(0.30)) == (True, None)  # the held period again
+    wall[0] += 0.001
+    assert sensors.accept('odom', odom(0.92)) == (True, None)
 
 
 def test_a_restarted_simulator_becomes_the_time_once_it_runs_on():

@@ -381,8 +381,9 @@ rclpy.spin(node)
 def test_lockstep_waits_for_a_late_controller_whose_process_lives_and_not_for_a_dead_one(sim):
     """A controller late beyond lockstep_timeout but alive (DDS liveliness, asserted by its
     process) is waited for, with a WARN naming joint_commands: the clock holds, whatever the
-    machine's load; once its process is killed, it is lost within the lease and the clock
-    runs."""
+    machine's load, and the period's sensors go out again every lockstep_timeout (for a
+    controller that lost or refused them); once its process is killed, it is lost within the
+    lease and the clock runs."""
     import os
     import signal
     import subprocess
@@ -401,11 +402,15 @@ def test_lockstep_waits_for_a_late_controller_whose_process_lives_and_not_for_a_
             count = len(sim['clock'].messages)
             answer(sim, commands)
             assert sim['clock'].wait_for(sim['executor'], lambda m: len(m) > count, timeout=5)
-        # silent for 4 x lockstep_timeout, alive: reported, and the clock holds
+        # silent for 4 x lockstep_timeout, alive: reported, the clock holds, the sensors again
         count = len(diagnostics.messages)
-        ticks = len(sim['clock'].messages)
+        spin_until(sim['executor'], lambda: False, 0.1)  # the last answer's step
+        held = seconds(sim['clock'].messages[-1].clock)
+        states = len(sim['joints'].messages)
         spin_until(sim['executor'], lambda: False, 2.0)
-        assert len(sim['clock'].messages) - ticks <= 1
+        assert seconds(sim['clock'].messages[-1].clock) == held
+        again = [seconds(m.header.stamp) for m in sim['joints'].messages[states:]]
+        assert len(again) >= 3 and set(again) == {held}, again
         statuses = [s for d in diagnostics.messages[count:] for s in d.status]
         assert any(s.level == DiagnosticStatus.WARN and 'joint_commands' in s.message
                    for s in statuses)

@@ -1,12 +1,15 @@
 """The controller's sensor messages checked at the boundary, the newest valid one kept per topic.
 
 A message is refused (and the previous valid one kept) when its frame is not the expected one,
-its stamp goes back, jumps ahead of the stream's (without a clock, or beyond the node's clock)
-or lies in the future of the node's clock (when it follows /clock), or a value is not finite or
+its stamp goes back, jumps ahead of the stream's (unless the node's clock has run through the gap
+or the stream had been silent in wall time: this node or its producer held up), or lies in the
+future of the node's clock (when it follows /clock), or a value is not finite or
 beyond the physical bounds of biped_mpc.input_bounds (positions outside the workspace, joints
 past their limits, forces beyond what an F/T sensor measures, quaternions that are not unit).
 """
 from dataclasses import dataclass
+import math
+import time
 from typing import Callable, Dict, Optional, Sequence, Tuple
 
 import numpy as np
@@ -47,17 +50,21 @@ class SensorIntake:
     :param joint_upper: (12,) their upper limits (rad)
     :param clock: now (s) of the node's clock when it is sim time, else None (no future check)
     :param max_lead: how far a stamp may be ahead of that clock (s)
+    :param wall: now (s) of a steady wall clock (how long a stream has been silent)
     """
 
     def __init__(self, bounds: InputBounds, frames: SensorFrames, leg_names: Sequence[str],
                  joint_lower: Sequence[float], joint_upper: Sequence[float],
-                 clock: Callable[[], Optional[float]], max_lead: float = 1.0) -> None:
+                 clock: Callable[[], Optional[float]], max_lead: float = 1.0,
+                 wall: Callable[[], float] = time.monotonic) -> None:
         self.bounds = bounds
         self._frames = frames
         self._legs = list(leg_names)
         self._lower, self._upper = joint_lower, joint_upper
         self._clock = clock
         self._max_lead = max_lead
+        self._wall = wall
+        self._moved_on: Dict[str, float] = {}  # wall time each topic's newest stamp came
         self.valid: Dict[str, object] = {}
         self.rejected: Dict[str, Tuple[Stamp, str]] = {}  # topic -> (stamp, why), newest
         self._newest: Dict[str, float] = {}  # newest valid stamp per topic (s)
@@ -77,17 +84,23 @@ class SensorIntake:
         """
         stamp = msg.header.stamp
         seconds = seconds_of(stamp)
+        wall = self._wall()
+        # since the stream last moved on (a repeat of its newest stamp, as a simulator holding
+        # its clock sends, is not a sign that it runs)
+        silent = wall - self._moved_on.get(topic, -math.inf)
         try:
             self._checks[topic](msg)
         except (InputError, ValueError, TypeError) as error:
             self.rejected[topic] = ((stamp.sec, stamp.nanosec), str(error))
             return False, str(error)
-        why = self._stamp_problem(topic, seconds)
+        why = self._stamp_problem(topic, seconds, silent)
         if why is not None:
             self.rejected[topic] = ((stamp.sec, stamp.nanosec), why)
             return False, why
         # only a valid message moves the stamps on: a refused one stamped ahead must not make
         # the valid ones that follow look old
+        if seconds > self._newest.get(topic, -math.inf):
+            self._moved_on[topic] = wall
         self._newest[topic] = seconds
         self.valid[topic] = msg
         return True, None
@@ -148,7 +161,8 @@ class SensorIntake:
                                   foot_wrenches=wrenches)
 
     # --- checks -----------------------------------------------------------------------------
-    def _stamp_problem(self, topic: str, seconds: float) -> Optional[str]:
+    def _stamp_problem(self, topic: str, seconds: float, silent: float) -> Optional[str]:
+        """:param silent: wall time since the topic's stamps last moved on (s)"""
         now = self._clock()
         if now is not None and seconds > now + self._max_lead:
             return f'stamp {seconds:.3f} s is ahead of the clock ({now:.3f} s)'
@@ -159,9 +173,12 @@ class SensorIntake:
         # the clock itself went back (a new simulator): follow it
         if now is not None and now < newest - CLOCK_JUMP and abs(seconds - now) <= CLOCK_JUMP:
             return None
-        # a gap in the stream that the clock has run through (messages lost, or this node held
-        # up while a simulator that gave up on it ran on): the stamp is the time
-        if now is not None and newest < seconds <= now + CLOCK_LAG:
+        # a gap in the stream: one the clock has run through (messages lost), or a silence in
+        # wall time (this node held up while a simulator that gave up on it ran on; the node's
+        # /clock may be handled after the sensors): the stamp is the time. A stamp ahead within
+        # a steady stream is refused (bad input would make the valid ones that follow look old).
+        if seconds > newest and ((now is not None and seconds <= now + CLOCK_LAG) or
+                                 silent >= MAX_JUMP):
             self._timelines.pop(topic, None)
             return None
         if self._new_timeline(topic, seconds):

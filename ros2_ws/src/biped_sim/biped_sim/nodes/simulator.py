@@ -23,8 +23,9 @@ Real-time mode (lockstep false) always advances at real_time_factor, for watchin
 Safety: a controller silent for lockstep_timeout of wall time is reported (WARN on diagnostics,
 naming joint_commands). While its process is alive (DDS liveliness of joint_commands/alive,
 biped_planner.node_support.liveliness) lockstep waits for it, so a loaded machine slows the run
-but never changes it; a controller whose process is gone, one without that token, or one silent
-for hung_controller_timeout is lost (ERROR): the robot's safe mode holds its last commanded joint
+but never changes it, and sends it the period's sensors again every lockstep_timeout; a
+controller whose process is gone, one without that token, or one silent for
+hung_controller_timeout is lost (ERROR): the robot's safe mode holds its last commanded joint
 positions with the servos, and the clock runs in real time until commands come again.
 Commands with NaN / inf, past a joint limit by more than command_margin, with unknown joints,
 mismatched lengths or a stamp ahead of the simulation are refused (logged) and the previous
@@ -329,6 +330,9 @@ class SimulatorNode(Node):
         if self._controller_seen and self._controller_process.alive and \
                 silent < float(self.get_parameter('hung_controller_timeout').value):
             self._report_waiting(silent)  # slow, not dead: the run waits for it
+            # with this period's sensors again: a controller that lost them, or refused them
+            # (held up, its /clock handled after them), answers then
+            self._hold_clock(now, timeout)
             return
         if self._controller_seen:
             self._lose_controller(silent)
