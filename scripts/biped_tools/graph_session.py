@@ -366,7 +366,17 @@ class GraphSession:
                                f'{len(self.series.states)}, references: '
                                f'{len(self.series.bounds)}, map: {self.map is not None}, '
                                f'odometry recorded: {self.recording_odometry()}, planner '
-                               f'has sole_poses: {self.planner_knows_the_feet()})')
+                               f'has sole_poses: {self.planner_knows_the_feet()}; '
+                               f'{self._discovery_report()})')
+
+    def _discovery_report(self) -> str:
+        """What DDS discovery shows this session: which nodes, and the publishers of the
+        topics a start waits for (a node that is up but undiscovered has none)."""
+        nodes = sorted(set(self.node.get_node_names()) - {self.node.get_name()})
+        topics = ('walking_state', 'joint_states', 'joint_commands', 'reference_trajectory',
+                  'sole_poses', 'map')
+        counts = ', '.join(f'{topic} {self.node.count_publishers(topic)}' for topic in topics)
+        return f'nodes seen: {", ".join(nodes) or "none"}; publishers seen: {counts}'
 
     def planner_knows_the_feet(self) -> bool:
         """The planner plans from the controller's sole_poses, not from odom's pelvis (1-2 cm
