@@ -510,6 +510,26 @@ def test_a_lost_simulator_is_reported(walk_loop):
         for d in m[count:]), timeout=10)
 
 
+def simulator_and_controller(ros_context, executor, simulator_parameter: Parameter) -> dict:
+    """The simulator (with one parameter set) and the controller in this process, a client
+    collecting commands, diagnostics and /clock and publishing references; once the clock
+    runs."""
+    simulator = executor.track(SimulatorNode(context=ros_context,
+                                             parameter_overrides=[simulator_parameter]))
+    controller = executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
+        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
+    client = executor.track(rclpy.create_node('mpc_sim_client', context=ros_context))
+    g = dict(client=client, executor=executor, rosout=RosoutLines(client), simulator=simulator,
+             controller=controller)
+    g['commands'] = Collector(client, JointState, 'joint_commands', 100)
+    g['diag'] = Collector(client, ControllerDiagnostics, 'controller_diagnostics', 100)
+    g['clock'] = Collector(client, Clock, '/clock', 100)
+    g['refs'] = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
+    assert wait_for_subscribers(executor, g['refs'], timeout=15)
+    assert g['clock'].wait_for(executor, timeout=15)
+    return g
+
+
 def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(ros_context,
                                                                              executor):
     """A CI failure of 2026-12-07: the controller's process was held up for longer than the
@@ -517,17 +537,10 @@ def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(r
     joint_states was 0.34 s newer than its last. It refused them as a jump for NEW_TIMELINE
     messages and reported the simulator lost. Its clock has run through the gap: it answers the
     newest period it is sent, and the simulator is back in lockstep."""
-    simulator = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
-        Parameter('hung_controller_timeout', value=0.3)]))  # alive but silent: lost at once
-    controller = executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
-    client = executor.track(rclpy.create_node('mpc_held_up_client', context=ros_context))
-    g = dict(client=client, executor=executor, rosout=RosoutLines(client))
-    g['commands'] = Collector(client, JointState, 'joint_commands', 100)
-    g['clock'] = Collector(client, Clock, '/clock', 100)
-    g['refs'] = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
-    assert wait_for_subscribers(executor, g['refs'], timeout=15)
-    assert g['clock'].wait_for(executor, timeout=15)
+    # alive but silent, the controller is lost at once
+    g = simulator_and_controller(ros_context, executor, Parameter('hung_controller_timeout',
+                                                                  value=0.3))
+    simulator, controller = g['simulator'], g['controller']
     play_references(g, window_of, clock_time(g) + 0.3)
     executor.remove_node(controller)  # held up: nothing of it runs, DDS queues its inputs
     t_held = clock_time(g)
@@ -550,17 +563,7 @@ def test_a_simulator_holding_its_clock_is_not_reported_lost(ros_context, executo
     held time again every lockstep_timeout: the controller says in the log that it is alive and
     holds its clock; no HOLDING 'simulator lost' (each start that waited for publishers
     reported one before)."""
-    executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
-        Parameter('hold_at', value=0.3)]))
-    executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
-    client = executor.track(rclpy.create_node('mpc_hold_client', context=ros_context))
-    g = dict(client=client, executor=executor, rosout=RosoutLines(client))
-    g['diag'] = Collector(client, ControllerDiagnostics, 'controller_diagnostics', 100)
-    g['clock'] = Collector(client, Clock, '/clock', 100)
-    g['refs'] = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
-    assert wait_for_subscribers(executor, g['refs'], timeout=15)
-    assert g['clock'].wait_for(executor, timeout=15)
+    g = simulator_and_controller(ros_context, executor, Parameter('hold_at', value=0.3))
     play_references(g, window_of, 0.3)
     assert spin_until(executor, lambda: g['rosout'].has(
         '[mpc_controller]', 'the simulator is alive (its clock held'), 10.0)
