@@ -495,10 +495,7 @@ def test_a_period_waiting_for_a_live_generator_sends_its_soles_again(walk_loop):
     assert clock_time(g) <= last + 0.02 + 1e-9  # the lockstep clock waits meanwhile
 
 
-@pytest.mark.parametrize('walk_loop', [{'simulator_hung_timeout': 1.0}], indirect=True)
 def test_a_lost_simulator_is_reported(walk_loop):
-    """In this process the simulator's node still exists (its liveliness token too): it is
-    lost once silent for simulator_hung_timeout."""
     g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)
     play_references(g, window_of, clock_time(g) + 0.3)
@@ -560,16 +557,15 @@ def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(r
 
 def test_a_simulator_holding_its_clock_is_not_reported_lost(ros_context, executor):
     """Held at hold_at (as a scripted trial holds it), the simulator sends its sensors of the
-    held time again every lockstep_timeout: the controller says in the log that it is alive and
-    holds its clock; no HOLDING 'simulator lost' (each start that waited for publishers
-    reported one before)."""
+    held time again every lockstep_timeout: each repeat is a sign of life, and no HOLDING
+    'simulator lost' comes (each start that waited for publishers reported one before, 0.5 s
+    into the hold)."""
     g = simulator_and_controller(ros_context, executor, Parameter('hold_at', value=0.3))
     play_references(g, window_of, 0.3)
-    assert spin_until(executor, lambda: g['rosout'].has(
-        '[mpc_controller]', 'the simulator is alive (its clock held'), 10.0)
-    spin_until(executor, lambda: False, 1.5)  # three of its repeats
+    spin_until(executor, lambda: False, 2.5)  # five of its repeats
     assert clock_time(g) == pytest.approx(0.3, abs=1e-6)
-    assert not any('simulator lost' in d.message for d in g['diag'].messages)
+    assert g['diag'].messages and \
+        not any('simulator lost' in d.message for d in g['diag'].messages)
 
 
 def test_refused_joint_states_are_reported_as_refused_not_as_a_lost_simulator(walk_loop):

@@ -34,10 +34,9 @@ Safety (biped_mpc.safe_stance, biped_mpc.input_bounds):
   the sensors' range, quaternions that are not unit): a refused one is logged and the previous
   valid one kept; when a sensor has had no valid message for sensor_timeout the controller
   holds the safe stance (HOLDING, naming it). No joint_states for sensor_loss_timeout of wall
-  time: HOLDING reported, naming joint_states, when the simulator is gone (its process, by DDS
-  liveliness of joint_states/alive; one without that token; or one silent for
-  simulator_hung_timeout) or when they come but are refused (saying why); a live simulator that
-  holds its clock or is slow is said in the log. None at all for
+  time (the simulator is gone; a simulator holding its clock sends the held period again, which
+  counts): HOLDING reported, naming joint_states, and why when they come but are refused. None
+  at all for
   startup_sensor_patience after the start: the log says so every 5 s, with how many publishers
   joint_states has (none: no simulator found; some: their messages do not arrive).
 - walking_state.epoch changed (the state machine reset the robot): once the robot stands
@@ -133,11 +132,10 @@ class MpcControllerNode(Node):
                                        '(s)', (0.0, 600.0)),
             'sensor_timeout': (0.1, 'a sensor without a valid message for this long makes it '
                                'hold a stance (s)', (0.0, 10.0)),
-            'sensor_loss_timeout': (0.5, 'wall time without joint_states after which it reports '
-                                    'the simulator lost (s)', (0.05, 60.0)),
-            'simulator_hung_timeout': (10.0, 'wall time without joint_states after which a '
-                                       'simulator whose process is alive is reported lost all '
-                                       'the same (hung) (s)', (0.1, 3600.0)),
+            'sensor_loss_timeout': (1.0, 'wall time without joint_states after which it reports '
+                                    'the simulator lost (s); a simulator holding its clock sends '
+                                    'the held period again every lockstep_timeout (0.5 s)',
+                                    (0.05, 60.0)),
             'startup_sensor_patience': (10.0, 'wall time after the start without any '
                                         'joint_states after which the log says no cycle runs '
                                         'for want of them (s)', (0.1, 600.0)),
@@ -226,7 +224,6 @@ class MpcControllerNode(Node):
         self._reference_arrival = None  # wall time the last valid reference arrived
         self._deadlines = DeadlineMonitor(float(get('command_deadline')))
         self._reference_process = LivelinessWatch(self, 'reference_trajectory')
-        self._simulator_process = LivelinessWatch(self, 'joint_states')
         self.create_timer(WATCHDOG_PERIOD, self._on_watchdog, clock=steady)
         self.get_logger().info(f'{get("model")} MPC ready ({get("solver")}, Np '
                                f'{self._params.mpc.n_predict})')
@@ -393,9 +390,8 @@ class MpcControllerNode(Node):
         self._try_cycle(force=True)
 
     def _on_watchdog(self) -> None:
-        """Report the simulator lost when joint_states stop (no cycle runs without them) and its
-        process is gone or hung, why when they come but are refused, and say so when none has
-        come since the start."""
+        """Report the simulator lost when joint_states stop (no cycle runs without them), why
+        when they come but are refused, and say so when none has come since the start."""
         if self._joint_states_heard is None:
             waited = time.monotonic() - self._created
             if waited >= self.get_parameter('startup_sensor_patience').value:
@@ -414,14 +410,6 @@ class MpcControllerNode(Node):
         if time.monotonic() - self._joint_states_refused < timeout:
             message = (f'holding a stance: sensors stale: joint_states refused for {silent:.1f} '
                        f's ({self._intake.why_stale("joint_states")})')
-        elif self._simulator_process.alive and \
-                silent < self.get_parameter('simulator_hung_timeout').value:
-            # its clock held (hold_at, waiting for publishers or a pacing runner) or slow
-            self.get_logger().warning(
-                f'no new joint_states for {silent:.1f} s: the simulator is alive (its clock '
-                f'held, or slow); no control cycle runs until they come',
-                throttle_duration_sec=5.0)
-            return
         else:
             message = (f'holding a stance: sensors stale: no joint_states for {silent:.1f} s '
                        f'(simulator lost)')

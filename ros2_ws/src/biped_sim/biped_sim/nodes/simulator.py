@@ -49,7 +49,7 @@ from sensor_msgs.msg import Imu, JointState
 from std_srvs.srv import Trigger
 
 from biped_planner.node_support.dataclass_parameters import declare_node_parameters
-from biped_planner.node_support.liveliness import LivelinessToken, LivelinessWatch
+from biped_planner.node_support.liveliness import LivelinessWatch
 from biped_planner.node_support.node_runner import run_node
 from biped_planner.node_support.rejection_log import RejectionLog
 from biped_planner.node_support.stamps import seconds_of
@@ -136,8 +136,6 @@ class SimulatorNode(Node):
         self._command_sub = self.create_subscription(JointState, 'joint_commands',
                                                      self._on_command, 10)
         self._controller_process = LivelinessWatch(self, 'joint_commands')
-        # the controller tells a held or slow clock from a lost simulator by it
-        self._alive = LivelinessToken(self, 'joint_states')
         self._waiting_reported = False  # a late, live controller is on diagnostics
         self.create_subscription(OccupancyGridMsg, 'map', self._on_map, LATCHED_IN)
         self.create_service(Push, 'push', self._on_push)
