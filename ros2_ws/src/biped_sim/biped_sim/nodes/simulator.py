@@ -341,9 +341,10 @@ class SimulatorNode(Node):
         self._step()
 
     def _hold_clock(self, now: float, timeout: float) -> bool:
-        """Before the clock starts: it stays where it is, and every timeout the sensors go out
-        again, for a controller that subscribed after they were sent; :return: whether they
-        went out now."""
+        """While the clock holds (before it starts, at hold_at, for a pacing runner or a late
+        live controller): it stays where it is, and every timeout the sensors go out again, for
+        a node that subscribed after they were sent, lost them or refused them; :return:
+        whether they went out now."""
         if now - self._last_step_wall < timeout:
             return False
         self._last_step_wall = now
