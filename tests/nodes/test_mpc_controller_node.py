@@ -144,16 +144,17 @@ def seconds(stamp) -> float:
 def walk_loop(ros_context, executor, request):
     """Simulator + controller, the controller waiting 10 ms of wall time for a reference (the
     test plays the reference generator, and then stops). Indirect parametrization: more
-    controller parameters as {name: value}."""
-    executor.track(SimulatorNode(context=ros_context))
-    extra = [Parameter(name, value=value)
-             for name, value in getattr(request, 'param', {}).items()]
-    executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
+    controller parameters as {name: value}, the simulator's under the key 'simulator'."""
+    overrides = dict(getattr(request, 'param', {}))
+    simulator = executor.track(SimulatorNode(context=ros_context, parameter_overrides=[
+        Parameter(name, value=value) for name, value in overrides.pop('simulator', {}).items()]))
+    controller = executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
         Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]
-        + extra))
+        + [Parameter(name, value=value) for name, value in overrides.items()]))
     client = executor.track(rclpy.create_node('mpc_walk_client', context=ros_context))
     from geometry_msgs.msg import PoseArray, WrenchStamped
-    g = dict(client=client, executor=executor, rosout=RosoutLines(client))
+    g = dict(client=client, executor=executor, rosout=RosoutLines(client), simulator=simulator,
+             controller=controller)
     g['diag'] = Collector(client, ControllerDiagnostics, 'controller_diagnostics', 100)
     g['commands'] = Collector(client, JointState, 'joint_commands', 100)
     g['odom'] = Collector(client, Odometry, 'odom', 100)
@@ -499,45 +500,25 @@ def test_a_lost_simulator_is_reported(walk_loop):
     g = walk_loop
     assert g['clock'].wait_for(g['executor'], timeout=15)
     play_references(g, window_of, clock_time(g) + 0.3)
-    simulator = next(n for n in g['executor'].get_nodes() if n.get_name() == 'simulator')
-    g['executor'].remove_node(simulator)  # silent from now on (destroyed at teardown)
+    g['executor'].remove_node(g['simulator'])  # silent from now on (destroyed at teardown)
     count = len(g['diag'].messages)
     assert g['diag'].wait_for(g['executor'], lambda m: any(
         d.status == ControllerDiagnostics.HOLDING and 'joint_states' in d.message
         for d in m[count:]), timeout=10)
 
 
-def simulator_and_controller(ros_context, executor, simulator_parameter: Parameter) -> dict:
-    """The simulator (with one parameter set) and the controller in this process, a client
-    collecting commands, diagnostics and /clock and publishing references; once the clock
-    runs."""
-    simulator = executor.track(SimulatorNode(context=ros_context,
-                                             parameter_overrides=[simulator_parameter]))
-    controller = executor.track(MpcControllerNode(context=ros_context, parameter_overrides=[
-        Parameter('use_sim_time', value=True), Parameter('reference_wait', value=0.01)]))
-    client = executor.track(rclpy.create_node('mpc_sim_client', context=ros_context))
-    g = dict(client=client, executor=executor, rosout=RosoutLines(client), simulator=simulator,
-             controller=controller)
-    g['commands'] = Collector(client, JointState, 'joint_commands', 100)
-    g['diag'] = Collector(client, ControllerDiagnostics, 'controller_diagnostics', 100)
-    g['clock'] = Collector(client, Clock, '/clock', 100)
-    g['refs'] = client.create_publisher(ReferenceTrajectory, 'reference_trajectory', 10)
-    assert wait_for_subscribers(executor, g['refs'], timeout=15)
-    assert g['clock'].wait_for(executor, timeout=15)
-    return g
-
-
-def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(ros_context,
-                                                                             executor):
+@pytest.mark.parametrize('walk_loop', [{'simulator': {'hung_controller_timeout': 0.3}}],
+                         indirect=True)
+def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(walk_loop):
     """A CI failure of 2026-12-07: the controller's process was held up for longer than the
     simulator waits; the simulator gave it up and ran on in real time, and the controller's next
     joint_states was 0.34 s newer than its last. It refused them as a jump for NEW_TIMELINE
     messages and reported the simulator lost. Its clock has run through the gap: it answers the
     newest period it is sent, and the simulator is back in lockstep."""
     # alive but silent, the controller is lost at once
-    g = simulator_and_controller(ros_context, executor, Parameter('hung_controller_timeout',
-                                                                  value=0.3))
+    g, executor = walk_loop, walk_loop['executor']
     simulator, controller = g['simulator'], g['controller']
+    assert g['clock'].wait_for(executor, timeout=15)
     play_references(g, window_of, clock_time(g) + 0.3)
     executor.remove_node(controller)  # held up: nothing of it runs, DDS queues its inputs
     t_held = clock_time(g)
@@ -555,12 +536,14 @@ def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(r
     assert simulator.get_parameter('lockstep').value
 
 
-def test_a_simulator_holding_its_clock_is_not_reported_lost(ros_context, executor):
+@pytest.mark.parametrize('walk_loop', [{'simulator': {'hold_at': 0.3}}], indirect=True)
+def test_a_simulator_holding_its_clock_is_not_reported_lost(walk_loop):
     """Held at hold_at (as a scripted trial holds it), the simulator sends its sensors of the
     held time again every lockstep_timeout: each repeat is a sign of life, and no HOLDING
     'simulator lost' comes (each start that waited for publishers reported one before, 0.5 s
     into the hold)."""
-    g = simulator_and_controller(ros_context, executor, Parameter('hold_at', value=0.3))
+    g, executor = walk_loop, walk_loop['executor']
+    assert g['clock'].wait_for(executor, timeout=15)
     play_references(g, window_of, 0.3)
     spin_until(executor, lambda: False, 2.5)  # five of its repeats
     assert clock_time(g) == pytest.approx(0.3, abs=1e-6)
@@ -576,8 +559,7 @@ def test_refused_joint_states_are_reported_as_refused_not_as_a_lost_simulator(wa
     assert g['clock'].wait_for(g['executor'], timeout=15)
     play_references(g, window_of, clock_time(g) + 0.3)
     assert states.wait_for(g['executor'], timeout=5)
-    simulator = next(n for n in g['executor'].get_nodes() if n.get_name() == 'simulator')
-    g['executor'].remove_node(simulator)  # silent from now on (destroyed at teardown)
+    g['executor'].remove_node(g['simulator'])  # silent from now on (destroyed at teardown)
     ahead = states.messages[-1]
     ahead.header.stamp.sec += 5
     publisher = g['client'].create_publisher(JointState, 'joint_states', 10)
