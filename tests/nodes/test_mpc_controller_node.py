@@ -361,12 +361,14 @@ def test_malformed_references_are_refused(walk_loop):
     other_dt.dt = 0.05
     far = standing_reference(g, t)
     far.left_foot_x = [1e6] * len(far.left_foot_x)
-    for msg in (empty, other_dt, far):
+    ahead = standing_reference(g, t + 5.0)
+    for msg in (empty, other_dt, far, ahead):
         g['refs'].publish(msg)
     spin_until(g['executor'], lambda: False, 0.5)
     for words in (('reference_trajectory rejected', '0 samples'),
                   ('reference_trajectory rejected', 'apart'),
-                  ('reference_trajectory rejected', 'workspace')):
+                  ('reference_trajectory rejected', 'workspace'),
+                  ('reference_trajectory rejected', 'ahead of the sensors', 'of the clock')):
         assert g['rosout'].has(*words), words
     g['refs'].publish(good)
     assert g['commands'].wait_for(g['executor'], timeout=10)  # controls on the good one
@@ -534,6 +536,9 @@ def test_a_controller_held_up_while_the_simulator_ran_on_answers_again_at_once(w
     assert newer and newer[0] <= t_back + 0.1, (t_held, t_back, answered[:5])
     assert g['rosout'].has('[simulator]', 'joint_commands arrive again')
     assert simulator.get_parameter('lockstep').value
+    # the references the test sent for the clock's newest times came before the queued
+    # sensors of those times: kept for their periods, not refused as ahead of the sensors
+    assert not g['rosout'].has('reference_trajectory rejected'), g['rosout'].lines
 
 
 @pytest.mark.parametrize('walk_loop', [{'simulator': {'hold_at': 0.3}}], indirect=True)

@@ -21,7 +21,9 @@ A reference_trajectory whose walk_adjustments grew (the step adjuster moved a st
 brings the MPC's commanded DCM to the measured one, once (adjusted_walk_dcm_leash).
 
 Lockstep: a period is computed once its reference (stamped with the same sensor time) is in, or
-after reference_wait of wall time without it.
+after reference_wait of wall time without it. A reference that comes before the sensors of its
+time (this process was held up and its inputs queued; the clock has run on) waits for their
+period; one ahead of the clock too is refused.
 
 Safety (biped_mpc.safe_stance, biped_mpc.input_bounds):
 - References older than stale_timeout (the reference generator died or lags): the controller
@@ -189,6 +191,9 @@ class MpcControllerNode(Node):
         self._created = time.monotonic()
         self._last_cycle = None
         self._pending = None  # sensor time (s) of a complete period not yet computed
+        # (reference, walk_adjustments) that starts ahead of the sensors handled so far but not
+        # of the clock, for the period of its time
+        self._early_reference = None
         self._last_output = None
         self._last_command = None
         self._last_soles = None  # the sole_poses of the last cycle
@@ -246,19 +251,49 @@ class MpcControllerNode(Node):
             check_reference_window(reference, self._dt, self._intake.bounds)
             t0 = float(reference.t[0])
             if self._period is not None and t0 > stamp_seconds_of(self._period) + 1.5 * self._dt:
-                raise InputError(f'it starts at t={t0:.3f} s, ahead of the sensors '
-                                 f'(t={stamp_seconds_of(self._period):.3f} s)')
-            current = self._supervisor.reference
-            if current is not None and t0 < current.t[0] - 1e-9:
-                raise InputError(f'it starts at t={t0:.3f} s, before the one in use '
-                                 f'({current.t[0]:.3f} s)')
+                now = self._sim_now()
+                if now is None or t0 > now + 1e-6:
+                    raise InputError(f'it starts at t={t0:.3f} s, ahead of the sensors '
+                                     f'(t={stamp_seconds_of(self._period):.3f} s) and of the '
+                                     f'clock')
+                # The clock has run on and the sensors of that time are still queued (this
+                # process was held up): kept until their period, not refused.
+                self._early_reference = (reference, msg.walk_adjustments)
+                return
+            self._check_not_older(t0)
         except (ValueError, BipedMpcError) as error:
             self._reject('reference_trajectory', error)
             return
+        self._use_reference(reference, msg.walk_adjustments)
+
+    def _check_not_older(self, t0: float) -> None:
+        current = self._supervisor.reference
+        if current is not None and t0 < current.t[0] - 1e-9:
+            raise InputError(f'it starts at t={t0:.3f} s, before the one in use '
+                             f'({current.t[0]:.3f} s)')
+
+    def _use_reference(self, reference, walk_adjustments: int) -> None:
+        early = self._early_reference
+        if early is not None and early[0].t[0] <= reference.t[0] + 1e-9:
+            self._early_reference = None  # superseded
         self._supervisor.set_reference(reference)
-        self._controller.walk_adjustments = msg.walk_adjustments
+        self._controller.walk_adjustments = walk_adjustments
         self._reference_arrival = time.monotonic()
         self._try_cycle()
+
+    def _take_early_reference(self) -> None:
+        """The reference kept for a period the sensors had not reached, once they have."""
+        early = self._early_reference
+        if early is None or self._pending is None or \
+                early[0].t[0] > self._pending + 1.5 * self._dt:
+            return
+        self._early_reference = None
+        try:
+            self._check_not_older(float(early[0].t[0]))
+        except BipedMpcError as error:
+            self._reject('reference_trajectory', error)
+            return
+        self._use_reference(*early)
 
     def _accept(self, topic: str, msg) -> bool:
         """Check a sensor message; :return: whether it was kept (a refused joint_states does
@@ -311,6 +346,7 @@ class MpcControllerNode(Node):
                 throttle_duration_sec=1.0)
         self._last_cycle = self._period
         self._pending = stamp_seconds_of(self._period)
+        self._take_early_reference()
         self._try_cycle()
         if self._pending is not None:
             self._wait_timer.reset()  # from now: run it after reference_wait without it
@@ -598,6 +634,7 @@ class MpcControllerNode(Node):
         epoch, self._epoch_pending = self._epoch_pending, None
         self._epoch = epoch
         self._controller.reset(t, feedback)
+        self._early_reference = None  # of the robot before the reset
         self._supervisor.stand(*self._controller.latched_feet, t,
                                f'reset (epoch {epoch}): standing until a reference fits the feet')
         self.get_logger().info(f'epoch {epoch}: estimate, stance and commands restarted from '
