@@ -147,9 +147,14 @@ def test_cut_footholds_agree_with_slsqp_and_quadprog(seed):
     assert np.all(inequalities(independent.x) >= -1e-6)
     assert objective(result.wrenches.reshape(-1)) <= \
         independent.fun + 1e-6 * max(1.0, independent.fun)
-    # the shear's split between the feet is set by the 1e-5 regularisation only: SLSQP stops
-    # within a few mN of it
-    np.testing.assert_allclose(result.wrenches.reshape(-1), independent.x, atol=1e-2)
+    # the shear's split between the feet is set by the 1e-5 regularisation only, a direction
+    # along which the objective is flat to 1e-8: SLSQP (status 8) stops a few mN from the
+    # optimum there on one host and 39 mN on another (AMD EPYC, 2026-12-08). Compared: the net
+    # shear and every other component closely, the split within 0.1 N.
+    ours, theirs = result.wrenches.reshape(2, 6), independent.x.reshape(2, 6)
+    np.testing.assert_allclose(ours[:, 2:], theirs[:, 2:], atol=1e-2)
+    np.testing.assert_allclose(ours[:, :2].sum(axis=0), theirs[:, :2].sum(axis=0), atol=1e-2)
+    np.testing.assert_allclose(ours[:, :2], theirs[:, :2], atol=0.1)
 
 
 def test_a_zmp_beyond_a_cut_lands_on_the_cut_line():
