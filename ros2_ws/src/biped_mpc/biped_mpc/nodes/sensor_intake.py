@@ -26,6 +26,7 @@ Stamp = Tuple[int, int]
 CLOCK_JUMP = 0.1  # s: a stamp this close to a clock that went back follows the clock
 CLOCK_LAG = 0.1  # s: how far a stream may run ahead of the node's clock (its /clock handled later)
 MAX_JUMP = 0.25  # s: a stream's stamps move on by a period; farther ahead is refused
+SILENCE = 0.25  # s of wall time: a stream silent this long (its node or this one held up) may jump
 NEW_TIMELINE = 25  # stamps off the timeline that run on steadily this long become the time
 
 
@@ -178,7 +179,7 @@ class SensorIntake:
         # /clock may be handled after the sensors): the stamp is the time. A stamp ahead within
         # a steady stream is refused (bad input would make the valid ones that follow look old).
         if seconds > newest and ((now is not None and seconds <= now + CLOCK_LAG) or
-                                 silent >= MAX_JUMP):
+                                 silent >= SILENCE):
             self._timelines.pop(topic, None)
             return None
         if self._new_timeline(topic, seconds):
